@@ -1,0 +1,71 @@
+// The service's error taxonomy: one enum, one exhaustive mapping to codes and HTTP statuses,
+// one renderer of the JSON error body. Core errors map into it one to one.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace seam::api {
+
+enum class ApiErrorCode {
+  // 400: the request or the asset cannot be parsed.
+  kMalformedRequest,    // bad multipart, bad JSON, bad base64, missing part
+  kInvalidParameter,    // a parameter has the wrong type or an unknown value
+  kMalformedAsset,      // malformed glTF/GLB/Draco/OFF/OBJ bytes or structure
+  // 404 / 405: routing.
+  kNotFound,
+  kMethodNotAllowed,
+  // 413 / 415.
+  kPayloadTooLarge,
+  kUnsupportedMediaType,
+  // 422: a well-formed asset that cannot be processed.
+  kNoTrianglePrimitive,       // mesh/primitive index missing, or not triangles
+  kUnsupportedPrimitiveMode,  // points or lines
+  kExternalUri,               // a buffer or image URI that is not a data URI
+  kExtremumOutOfRange,        // an extremum index >= the primitive's vertex count
+  kMeshTooLarge,              // more faces than the configured limit
+  kEmptyMesh,
+  kIndexOutOfRange,
+  kNonFinitePosition,
+  kDegenerateFace,
+  kNonManifoldEdge,
+  kNonManifoldVertex,
+  kInconsistentOrientation,
+  kTooManyTerminals,
+  kTopologyViolation,
+  kSolverFailed,
+  // 503 / 504 / 500.
+  kQueueFull,
+  kTimeout,
+  kInternal,
+};
+
+struct ApiError {
+  ApiErrorCode code = ApiErrorCode::kInternal;
+  std::string message;
+  nlohmann::json details = nlohmann::json::object();
+};
+
+/// The snake_case code string of the contract, e.g. "non_manifold_edge".
+std::string_view code_name(ApiErrorCode code);
+/// The HTTP status the contract assigns to the code.
+int http_status(ApiErrorCode code);
+/// Maps a core error (keeping its message; its elements go to details.elements).
+ApiError from_core(const core::Error& error);
+/// The one JSON error body: {"error": {"code", "message", "details"}}.
+nlohmann::json error_body(const ApiError& error);
+
+inline ApiError make_api_error(ApiErrorCode code, std::string message,
+                               nlohmann::json details = nlohmann::json::object()) {
+  return ApiError{code, std::move(message), std::move(details)};
+}
+
+/// Either a value or an ApiError.
+template <class T>
+using ApiResult = core::Result<T, ApiError>;
+
+}  // namespace seam::api

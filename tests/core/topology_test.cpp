@@ -1,0 +1,72 @@
+#include <doctest/doctest.h>
+
+#include "core/halfedge_mesh.h"
+#include "core/topology.h"
+#include "fixtures.h"
+
+using namespace seam::core;
+namespace fx = seam::fixtures;
+
+namespace {
+Topology topology_of(const fx::Soup& s) {
+  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
+  REQUIRE(mesh.ok());
+  REQUIRE(check_invariants(*mesh).ok());
+  return compute_topology(*mesh);
+}
+}  // namespace
+
+TEST_CASE("genus, Euler characteristic and boundary loops of the fixtures") {
+  struct Case {
+    const char* name;
+    fx::Soup soup;
+    int chi, genus;
+    std::size_t loops;
+  };
+  const Case cases[] = {
+      {"tetrahedron", fx::tetrahedron(), 2, 0, 0},  {"icosphere", fx::icosphere(2), 2, 0, 0},
+      {"torus", fx::torus(), 0, 1, 0},              {"double torus", fx::holed_slab(2), -2, 2, 0},
+      {"triple torus", fx::holed_slab(3), -4, 3, 0}, {"open cylinder", fx::open_cylinder(), 0, 0, 2},
+      {"disc", fx::disc(), 1, 0, 1},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.name);
+    const Topology t = topology_of(c.soup);
+    REQUIRE(t.components.size() == 1);
+    CHECK(t.components[0].euler_characteristic == c.chi);
+    CHECK(t.components[0].genus == c.genus);
+    CHECK(t.components[0].boundary_loops == c.loops);
+    CHECK(t.boundary_loops.size() == c.loops);
+  }
+}
+
+TEST_CASE("two components are counted separately") {
+  const auto soup = fx::join(fx::torus(), fx::translated(fx::disc(), Vec3(10, 0, 0)));
+  const Topology t = topology_of(soup);
+  REQUIRE(t.components.size() == 2);
+  CHECK(t.components[0].genus == 1);
+  CHECK(t.components[1].boundary_loops == 1);
+  CHECK(t.components[1].euler_characteristic == 1);
+  CHECK(t.face_component[FaceId(0u)] == 0);
+  CHECK(t.face_component[FaceId(soup.triangles.size() - 1)] == 1);
+  CHECK(t.total_genus() == 1);
+  CHECK(t.euler_characteristic() == 1);
+}
+
+TEST_CASE("boundary loops are ordered chains of boundary half-edges") {
+  auto soup = fx::open_cylinder(12, 3);
+  auto mesh = build_halfedge_mesh(soup.positions, soup.triangles);
+  REQUIRE(mesh.ok());
+  const Topology t = compute_topology(*mesh);
+  REQUIRE(t.boundary_loops.size() == 2);
+  for (const auto& loop : t.boundary_loops) {
+    CHECK(loop.size() == 12);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      CHECK(mesh->is_boundary(loop[i]));
+      CHECK(mesh->head(loop[i]) == mesh->tail(loop[(i + 1) % loop.size()]));
+    }
+    // Every vertex of a loop lies on one rim (z = 0 or z = 2).
+    const double z = mesh->position(mesh->tail(loop[0])).z();
+    for (auto h : loop) CHECK(mesh->position(mesh->tail(h)).z() == doctest::Approx(z));
+  }
+}
