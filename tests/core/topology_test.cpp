@@ -3,6 +3,7 @@
 #include "core/halfedge_mesh.h"
 #include "core/topology.h"
 #include "fixtures.h"
+#include "test_data.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
@@ -68,5 +69,30 @@ TEST_CASE("boundary loops are ordered chains of boundary half-edges") {
     // Every vertex of a loop lies on one rim (z = 0 or z = 2).
     const double z = mesh->position(mesh->tail(loop[0])).z();
     for (auto h : loop) CHECK(mesh->position(mesh->tail(h)).z() == doctest::Approx(z));
+  }
+}
+
+TEST_CASE("real CGAL meshes have the topology they are known to have") {
+  struct Case {
+    const char* name;
+    std::size_t components;
+    int genus;
+    std::size_t boundary_loops;
+  };
+  // Known facts about these models: the hand and camel are closed spheres, the elephant has
+  // genus 3 (its trunk and tusks touch the body), knot1 is a trefoil tube (genus 1), the
+  // mushroom and the lion head are open surfaces.
+  const Case cases[] = {
+      {"hand", 1, 0, 0}, {"elephant", 1, 3, 0}, {"knot1", 1, 1, 0}, {"mushroom", 1, 0, 1},
+      {"lion-head", 1, 0, 1}, {"camel", 1, 0, 0},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.name);
+    const auto mesh = seam::test_data::load_cgal_halfedge(c.name);
+    CHECK(check_invariants(mesh).ok());
+    const Topology t = compute_topology(mesh);
+    CHECK(t.components.size() == c.components);
+    CHECK(t.total_genus() == c.genus);
+    CHECK(t.boundary_loops.size() == c.boundary_loops);
   }
 }

@@ -1,0 +1,72 @@
+// One seam job from asset bytes and parameters to the contract's response: parse, weld,
+// seam, cut, flatten, encode. Shared by the HTTP server and the command line.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/error.h"
+#include "core/cancel.h"
+#include "core/extrema.h"
+#include "core/parameterize.h"
+#include "core/seam.h"
+
+namespace seam::api {
+
+/// How the extrema are chosen (API.md "extrema").
+struct ExtremaSpec {
+  bool automatic = true;                           ///< "auto", or {"auto": true, ...}
+  std::vector<std::uint32_t> indices;              ///< input vertex indices (include list)
+  std::vector<std::array<double, 3>> positions;    ///< snapped to the nearest vertex
+  std::vector<std::uint32_t> exclude;              ///< input vertex indices to drop from auto
+  core::ExtremaOptions auto_options;
+};
+
+enum class OutputFormat { kJson, kGlb };
+
+/// The parameters of POST /seam (API.md "Parameters").
+struct SeamParams {
+  ExtremaSpec extrema;
+  std::uint32_t mesh = 0;
+  std::uint32_t primitive = 0;
+  core::SeamMethod method = core::SeamMethod::kSkeleton;
+  std::optional<core::UvMethod> uv = core::UvMethod::kBff;  ///< nullopt = "none"
+  OutputFormat output = OutputFormat::kJson;
+  std::optional<bool> draco;  ///< nullopt = same as the input
+  double weld_epsilon = 0.0;
+};
+
+/// Parses the parameter object (the multipart `params` part, or the JSON body minus "mesh").
+/// Unknown keys are rejected (kInvalidParameter naming the key) so typos are not silent.
+ApiResult<SeamParams> params_from_json(const nlohmann::json& params);
+
+/// Parses query-string parameters (`?extrema=12,345&method=mst&uv=none`).
+ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string, std::string>>& query);
+
+/// What kind of bytes the asset is. kAuto sniffs: "glTF" magic = GLB, '{' = glTF JSON,
+/// "DRACO" magic = raw Draco mesh.
+enum class AssetKind { kAuto, kGlb, kGltfJson, kDraco };
+
+struct PipelineLimits {
+  std::size_t max_faces = 5'000'000;  ///< larger primitives are a 422 (kMeshTooLarge)
+};
+
+struct PipelineOutput {
+  nlohmann::json body;  ///< the 200 response object of API.md (with asset.glb_base64 when kJson)
+  std::string glb;      ///< the cut asset as GLB bytes (always filled)
+  double total_ms = 0;
+};
+
+/// Runs one seam job. Never throws for bad input: every failure is an ApiError with the
+/// contract's code. Cancelled work (time budget) returns kTimeout.
+ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, AssetKind kind,
+                                            const SeamParams& params, const PipelineLimits& limits,
+                                            const core::CancelToken& cancel);
+
+}  // namespace seam::api
