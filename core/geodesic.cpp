@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
 #include <string>
 #include <utility>
 
@@ -37,6 +36,82 @@ EdgeGraph build_edge_graph(const HalfedgeMesh& mesh, std::span<const double> edg
   return graph;
 }
 
+namespace {
+
+// A 4-ary min-heap of vertex ids keyed by (distance, id), with decrease-key. Compared with
+// std::priority_queue and lazy deletion it holds each vertex once (V entries instead of up to
+// E), which halves the memory traffic on large meshes; the id in the key makes ties, and so
+// the whole search, deterministic.
+class VertexHeap {
+ public:
+  static constexpr std::uint32_t kAbsent = 0xffffffffu;
+  static constexpr std::uint32_t kSettled = 0xfffffffeu;
+
+  VertexHeap(std::size_t n, const std::vector<double>& key) : slot_(n, kAbsent), key_(key) {}
+
+  bool empty() const { return heap_.empty(); }
+  bool settled(std::uint32_t v) const { return slot_[v] == kSettled; }
+
+  // Inserts v, or restores the heap order after key_[v] decreased.
+  void push_or_decrease(std::uint32_t v) {
+    std::uint32_t i = slot_[v];
+    if (i == kAbsent) {
+      i = static_cast<std::uint32_t>(heap_.size());
+      heap_.push_back(v);
+    }
+    sift_up(i, v);
+  }
+
+  std::uint32_t pop() {
+    const std::uint32_t top = heap_[0];
+    slot_[top] = kSettled;
+    const std::uint32_t last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) sift_down(0, last);
+    return top;
+  }
+
+ private:
+  bool less(std::uint32_t a, std::uint32_t b) const {
+    return key_[a] < key_[b] || (key_[a] == key_[b] && a < b);
+  }
+  void place(std::uint32_t i, std::uint32_t v) {
+    heap_[i] = v;
+    slot_[v] = i;
+  }
+  void sift_up(std::uint32_t i, std::uint32_t v) {
+    while (i > 0) {
+      const std::uint32_t parent = (i - 1) / 4;
+      if (!less(v, heap_[parent])) break;
+      place(i, heap_[parent]);
+      i = parent;
+    }
+    place(i, v);
+  }
+  void sift_down(std::uint32_t i, std::uint32_t v) {
+    const auto n = static_cast<std::uint32_t>(heap_.size());
+    while (true) {
+      const std::uint32_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::uint32_t best = first;
+      const std::uint32_t last = std::min(first + 4, n);
+      for (std::uint32_t c = first + 1; c < last; ++c) {
+        if (less(heap_[c], heap_[best])) best = c;
+      }
+      if (!less(heap_[best], v)) break;
+      place(i, heap_[best]);
+      i = best;
+    }
+    place(i, v);
+  }
+
+  std::vector<std::uint32_t> heap_;
+  std::vector<std::uint32_t> slot_;
+  const std::vector<double>& key_;
+};
+
+}  // namespace
+
 Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const VertexId> sources,
                                   const DijkstraOptions& options, const CancelToken& cancel) {
   const std::size_t nv = graph.num_vertices();
@@ -54,12 +129,11 @@ Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const Vertex
   SEAM_ASSERT(options.blocked.empty() || options.blocked.size() == nv);
 
   ShortestPathTree tree;
+  // Tentative distances are kept in `distance` while a vertex is in the heap; vertices never
+  // settled are reset to unreached at the end, so callers see settled distances only.
   tree.distance.assign(nv, ShortestPathTree::kUnreached);
   tree.parent.assign(nv, HalfedgeId());
   tree.source.assign(nv, VertexId::kInvalidValue);
-  // Tentative distances live apart from settled ones so `distance` reports only settled
-  // vertices (a vertex beyond max_distance stays unreached).
-  std::vector<double> tentative(nv, ShortestPathTree::kUnreached);
   std::vector<std::uint8_t> is_target(options.targets.empty() ? 0 : nv, 0);
   std::size_t targets_left = 0;
   for (VertexId t : options.targets) {
@@ -67,45 +141,47 @@ Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const Vertex
     is_target[t.index()] = 1;
   }
 
-  using Entry = std::pair<double, std::uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  std::vector<std::uint8_t> is_source(nv, 0);
+  VertexHeap heap(nv, tree.distance);
+  std::vector<std::uint8_t> is_source(options.blocked.empty() ? 0 : nv, 0);
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const std::uint32_t s = sources[i].value();
-    if (tentative[s] == 0.0) continue;  // a repeated source keeps its first index
-    tentative[s] = 0.0;
+    if (tree.distance[s] == 0.0) continue;  // a repeated source keeps its first index
+    tree.distance[s] = 0.0;
     tree.source[s] = static_cast<std::uint32_t>(i);
-    is_source[s] = 1;
-    queue.emplace(0.0, s);
+    if (!is_source.empty()) is_source[s] = 1;
+    heap.push_or_decrease(s);
   }
 
   std::uint32_t polls = 0;
-  while (!queue.empty()) {
+  std::vector<std::uint32_t> unsettled;  // popped beyond max_distance or left in the heap
+  while (!heap.empty()) {
     if (cancel.poll(polls)) return cancelled_error("shortest paths");
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (tree.distance[v] != ShortestPathTree::kUnreached || d > tentative[v]) continue;
-    if (d > options.max_distance) break;
-    tree.distance[v] = d;
+    const std::uint32_t v = heap.pop();
+    const double d = tree.distance[v];
+    if (d > options.max_distance) {
+      unsettled.push_back(v);
+      break;
+    }
     if (!is_target.empty() && is_target[v] && --targets_left == 0) break;
     if (!options.blocked.empty() && options.blocked[v] && !is_source[v]) continue;
     for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
       const std::uint32_t w = graph.head[slot].value();
       const double nd = d + graph.weight[slot];
-      if (nd < tentative[w]) {
-        tentative[w] = nd;
+      if (nd < tree.distance[w] && !heap.settled(w)) {
+        tree.distance[w] = nd;
         tree.parent[w] = graph.halfedge[slot];
         tree.source[w] = tree.source[v];
-        queue.emplace(nd, w);
+        heap.push_or_decrease(w);
       }
     }
   }
-  // Vertices reached tentatively but never settled are reported as unreached.
-  for (std::size_t v = 0; v < nv; ++v) {
-    if (tree.distance[v] == ShortestPathTree::kUnreached) {
-      tree.parent[v] = HalfedgeId();
-      tree.source[v] = VertexId::kInvalidValue;
-    }
+  // Everything still in the heap (and a vertex popped beyond max_distance) was only reached
+  // tentatively: report it as unreached.
+  while (!heap.empty()) unsettled.push_back(heap.pop());
+  for (std::uint32_t v : unsettled) {
+    tree.distance[v] = ShortestPathTree::kUnreached;
+    tree.parent[v] = HalfedgeId();
+    tree.source[v] = VertexId::kInvalidValue;
   }
   return tree;
 }

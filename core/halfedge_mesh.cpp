@@ -104,19 +104,45 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
     }
   }
 
-  // Group the 3F directed corner edges by undirected edge with one sort. Ties broken by
-  // corner index, so edge numbering depends only on the input order.
+  // Group the 3F directed corner edges by undirected edge: a counting sort by the smaller
+  // vertex (linear, cache-friendly), then a tiny insertion sort by the larger vertex inside
+  // each bucket. Both passes are stable in the corner index, so edge numbering depends only
+  // on the input order.
   std::vector<CornerEdge> corners(3 * nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    for (unsigned i = 0; i < 3; ++i) {
-      const std::uint64_t a = triangles[f][i];
-      const std::uint64_t b = triangles[f][(i + 1) % 3];
-      corners[3 * f + i] = {(std::min(a, b) << 32) | std::max(a, b), static_cast<std::uint32_t>(3 * f + i)};
+  {
+    std::vector<std::uint32_t> bucket_start(nv + 1, 0);
+    for (std::size_t f = 0; f < nf; ++f) {
+      for (unsigned i = 0; i < 3; ++i) {
+        ++bucket_start[std::min(triangles[f][i], triangles[f][(i + 1) % 3]) + 1];
+      }
+    }
+    for (std::size_t v = 0; v < nv; ++v) bucket_start[v + 1] += bucket_start[v];
+    std::vector<std::uint32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f) {
+      for (unsigned i = 0; i < 3; ++i) {
+        const std::uint64_t a = triangles[f][i];
+        const std::uint64_t b = triangles[f][(i + 1) % 3];
+        corners[fill[std::min(a, b)]++] = {(std::min(a, b) << 32) | std::max(a, b),
+                                           static_cast<std::uint32_t>(3 * f + i)};
+      }
+    }
+    for (std::size_t v = 0; v < nv; ++v) {
+      if (bucket_start[v + 1] - bucket_start[v] > 32) {
+        // A high-valence vertex (a cone apex, a pole): insertion sort would be quadratic.
+        std::sort(corners.begin() + bucket_start[v], corners.begin() + bucket_start[v + 1],
+                  [](const CornerEdge& x, const CornerEdge& y) {
+                    return x.key != y.key ? x.key < y.key : x.corner < y.corner;
+                  });
+        continue;
+      }
+      for (std::uint32_t i = bucket_start[v] + 1; i < bucket_start[v + 1]; ++i) {
+        const CornerEdge item = corners[i];
+        std::uint32_t j = i;
+        for (; j > bucket_start[v] && corners[j - 1].key > item.key; --j) corners[j] = corners[j - 1];
+        corners[j] = item;
+      }
     }
   }
-  std::sort(corners.begin(), corners.end(), [](const CornerEdge& x, const CornerEdge& y) {
-    return x.key != y.key ? x.key < y.key : x.corner < y.corner;
-  });
 
   auto corner_tail = [&](std::uint32_t c) { return triangles[c / 3][c % 3]; };
 
