@@ -1,0 +1,71 @@
+// Shared by the benchmarks: timing, real-mesh loading, subdivision to large sizes.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "api/mesh_io.h"
+#include "core/types.h"
+
+namespace seam::bench {
+
+/// Milliseconds taken by f(), best of `repeats` runs (the minimum filters scheduler noise).
+template <class F>
+double best_ms(int repeats, F&& f) {
+  double best = 1e300;
+  for (int i = 0; i < repeats; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    const auto t1 = std::chrono::steady_clock::now();
+    best = std::min(best, std::chrono::duration<double, std::milli>(t1 - t0).count());
+  }
+  return best;
+}
+
+/// CGAL's `name`.off from the test-data cache; exits with a hint when it is missing.
+inline core::IndexedMesh load_cgal(const std::string& name) {
+  const std::string path = std::string(SEAM_TEST_DATA_DIR) + "/meshes/" + name + ".off";
+  auto mesh = api::read_mesh_file(path);
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "cannot load %s (%s): run scripts/fetch-test-data.sh\n", path.c_str(),
+                 mesh.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(mesh).value();
+}
+
+/// One 1-to-4 midpoint subdivision (shared midpoints, so the topology is kept).
+inline core::IndexedMesh subdivide(const core::IndexedMesh& in) {
+  core::IndexedMesh out;
+  out.positions = in.positions;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+  auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+    const auto key = std::minmax(a, b);
+    auto [it, inserted] = mid.try_emplace(key, static_cast<std::uint32_t>(out.positions.size()));
+    if (inserted) out.positions.push_back(0.5 * (in.positions[a] + in.positions[b]));
+    return it->second;
+  };
+  out.triangles.reserve(4 * in.triangles.size());
+  for (const auto& t : in.triangles) {
+    const auto a = midpoint(t[0], t[1]);
+    const auto b = midpoint(t[1], t[2]);
+    const auto c = midpoint(t[2], t[0]);
+    out.triangles.push_back({t[0], a, c});
+    out.triangles.push_back({t[1], b, a});
+    out.triangles.push_back({t[2], c, b});
+    out.triangles.push_back({a, b, c});
+  }
+  return out;
+}
+
+/// Subdivides until the mesh has at least `min_faces` faces.
+inline core::IndexedMesh subdivide_to(core::IndexedMesh mesh, std::size_t min_faces) {
+  while (mesh.triangles.size() < min_faces) mesh = subdivide(mesh);
+  return mesh;
+}
+
+}  // namespace seam::bench
