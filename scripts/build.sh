@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Configures and builds one flavour of the project into build/<flavour>.
+#   scripts/build.sh release|asan [extra cmake args...]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+flavour="${1:-release}"
+shift || true
+jobs="${SEAM_JOBS:-2}"
+case "$flavour" in
+  release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
+  asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DSEAM_SANITIZE=address;undefined") ;;
+  *) echo "usage: scripts/build.sh release|asan [cmake args]" >&2; exit 2 ;;
+esac
+cmake -S "$root" -B "$root/build/$flavour" -G Ninja "${args[@]}" "$@" >/dev/null
+cmake --build "$root/build/$flavour" -j "$jobs"

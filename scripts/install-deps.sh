@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs what the project needs from Debian's packages and the npm registry. Idempotent:
+# installs only what is missing, so a second run costs a second.
+#   scripts/install-deps.sh          build + run dependencies
+#   scripts/install-deps.sh --test   also the test tools (gltf-validator, clang's fuzzer runtime)
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+
+packages=(build-essential cmake ninja-build pkg-config ccache
+          libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev draco
+          libspdlog-dev doctest-dev libeigen3-dev curl ca-certificates)
+if [[ "${1:-}" == "--test" ]]; then
+  packages+=(clang libclang-rt-14-dev nodejs npm)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "installing: ${missing[*]}"
+  sudo_cmd=()
+  [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if [[ "${1:-}" == "--test" && ! -x "$root/tests/node_modules/.bin/gltf_validator" && -f "$root/tests/package.json" ]]; then
+  if [[ ! -d "$root/tests/node_modules/gltf-validator" ]]; then
+    echo "installing npm test tools into tests/node_modules"
+    (cd "$root/tests" && npm install --no-audit --no-fund --loglevel=error)
+  fi
+fi

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Set-up command 1: install what is missing, build, write the bundled sample mesh and start
+# seamd on 127.0.0.1:8080 (override with SEAM_PORT / SEAM_BIND). Ctrl-C stops it.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+"$root/scripts/install-deps.sh"
+"$root/scripts/build.sh" release -DSEAM_BUILD_TESTS=OFF
+seamd="$root/build/release/server/seamd"
+sample="$root/build/sample.glb"
+"$seamd" sample --out "$sample" >/dev/null
+port="${SEAM_PORT:-8080}"
+bind="${SEAM_BIND:-127.0.0.1}"
+cat <<MSG
+
+seamd is starting on http://$bind:$port  (Ctrl-C to stop)
+Try it with the bundled sample (a procedural shape with five protrusions):
+
+  curl -s -F mesh=@$sample -F 'params={"method":"skeleton"}' http://$bind:$port/seam | head -c 600; echo
+
+MSG
+exec "$seamd" --bind "$bind" --port "$port"

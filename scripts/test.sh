@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Set-up command 2: install what is missing, build, and run every test:
+#   1. Release build with warnings as errors: all doctest suites (core, api, end-to-end server),
+#      real CGAL meshes, glTF-Validator checks.
+#   2. The same unit and end-to-end suites under AddressSanitizer + UndefinedBehaviorSanitizer.
+#   3. A short libFuzzer run of the asset loader over its corpus.
+# Exits non-zero when anything fails.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+jobs="${SEAM_JOBS:-2}"
+start=$(date +%s)
+"$root/scripts/install-deps.sh" --test
+"$root/scripts/fetch-test-data.sh"
+
+echo "== release build (-Werror) =="
+"$root/scripts/build.sh" release -DSEAM_WERROR=ON -DSEAM_BUILD_TESTS=ON
+echo "== release tests =="
+ctest --test-dir "$root/build/release" -j "$jobs" --output-on-failure --timeout 900
+
+echo "== sanitizer build (address;undefined, -Werror) =="
+"$root/scripts/build.sh" asan -DSEAM_WERROR=ON -DSEAM_BUILD_TESTS=ON
+echo "== sanitizer tests =="
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir "$root/build/asan" -j "$jobs" --output-on-failure --timeout 1800
+
+if [[ -x "$root/scripts/fuzz.sh" ]]; then
+  echo "== fuzz (short run) =="
+  "$root/scripts/fuzz.sh" 60
+fi
+echo "== all tests passed in $(( $(date +%s) - start )) s =="
