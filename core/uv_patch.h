@@ -1,0 +1,50 @@
+// One disc-shaped component of a mesh in compact local indexing, and the cotan operators the
+// flattening methods (LSCM, BFF, ARAP) share.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/halfedge_mesh.h"
+#include "core/topology.h"
+
+namespace seam::core {
+
+/// A topological disc with local vertex indices 0..n-1.
+struct DiscPatch {
+  std::vector<VertexId> to_mesh;       ///< local vertex -> vertex of the source mesh
+  std::vector<Vec3> positions;         ///< per local vertex
+  std::vector<Triangle> triangles;     ///< local indices, counter-clockwise seen from outside
+  std::vector<FaceId> to_mesh_face;    ///< local triangle -> face of the source mesh
+  std::vector<std::uint32_t> boundary; ///< the one boundary loop, counter-clockwise (interior on the left)
+
+  std::size_t num_vertices() const { return positions.size(); }
+};
+
+/// Splits `mesh` into one DiscPatch per connected component (in the component order of
+/// `topology`). Errors: kTopologyViolation if a component is not a disc (Euler characteristic
+/// 1 and exactly one boundary loop); the message names the component and one of its faces.
+/// O(V + F).
+Result<std::vector<DiscPatch>> extract_disc_patches(const HalfedgeMesh& mesh, const Topology& topology);
+
+/// The three corner angles of triangle t (at corners 0, 1, 2), in radians.
+Vec3 corner_angles(const DiscPatch& patch, std::size_t t);
+
+/// Cotangents of the three corner angles, clamped to [-kCotanClamp, kCotanClamp] so a sliver
+/// cannot make the operators numerically singular.
+Vec3 corner_cotans(const DiscPatch& patch, std::size_t t);
+inline constexpr double kCotanClamp = 1e5;
+
+/// The positive semi-definite cotan Laplacian (Dirichlet energy 1/2 x^T L x):
+/// L_ij = -(cot a_ij + cot b_ij)/2, L_ii = -sum_j L_ij. n x n, O(F).
+Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch);
+
+/// Planar coordinates of triangle t's corners in an isometric frame of its plane
+/// (corner 0 at the origin, corner 1 on the +x axis, corner 2 with y > 0).
+std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t);
+
+}  // namespace seam::core
