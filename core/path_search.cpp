@@ -1,0 +1,127 @@
+#include "core/path_search.h"
+
+#include <algorithm>
+#include <functional>
+
+namespace seam::core {
+
+PathSearch::PathSearch(const EdgeGraph& graph)
+    : graph_(&graph),
+      dist_(graph.num_vertices(), kUnreached),
+      parent_(graph.num_vertices()),
+      stamp_(graph.num_vertices(), 0),
+      settled_(graph.num_vertices(), 0),
+      is_source_(graph.num_vertices(), 0),
+      mark_(graph.num_vertices(), kFree),
+      is_target_(graph.num_vertices(), 0) {}
+
+void PathSearch::block(VertexId v) {
+  if (mark_[v.index()] == kFree) marked_.push_back(v.value());
+  mark_[v.index()] = kBlocked;
+}
+
+void PathSearch::forbid(VertexId v) {
+  if (mark_[v.index()] == kFree) marked_.push_back(v.value());
+  mark_[v.index()] = kForbidden;
+}
+
+void PathSearch::clear_marks() {
+  for (std::uint32_t v : marked_) mark_[v] = kFree;
+  marked_.clear();
+}
+
+void PathSearch::touch(std::uint32_t v) {
+  if (stamp_[v] == generation_) return;
+  stamp_[v] = generation_;
+  dist_[v] = kUnreached;
+  parent_[v] = HalfedgeId();
+  settled_[v] = 0;
+  is_source_[v] = 0;
+  touched_.push_back(v);
+}
+
+void PathSearch::reset() {
+  // A new generation invalidates every stamp at once; the flags that are read without a
+  // stamp check are cleared through the touched list.
+  for (std::uint32_t v : touched_) {
+    settled_[v] = 0;
+    is_source_[v] = 0;
+  }
+  touched_.clear();
+  settled_order_.clear();
+  heap_.clear();
+  if (++generation_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0u);
+    generation_ = 1;
+  }
+}
+
+void PathSearch::add_source(VertexId v, double offset) {
+  const std::uint32_t i = v.value();
+  touch(i);
+  if (offset < dist_[i]) {
+    dist_[i] = offset;
+    parent_[i] = HalfedgeId();
+    is_source_[i] = 1;
+    heap_.emplace_back(offset, i);
+    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+  }
+}
+
+Status PathSearch::run(std::span<const VertexId> targets, double max_distance, const CancelToken& cancel) {
+  std::size_t targets_left = 0;
+  for (VertexId t : targets) {
+    if (!is_target_[t.index()]) ++targets_left;
+    is_target_[t.index()] = 1;
+  }
+  auto clear_targets = [&] {
+    for (VertexId t : targets) is_target_[t.index()] = 0;
+  };
+  // Targets settled before the run (a source that is a target) count at once.
+  std::uint32_t polls = 0;
+  const auto& g = *graph_;
+  while (!heap_.empty()) {
+    if (cancel.poll(polls)) {
+      clear_targets();
+      return cancelled_error("shortest-path search");
+    }
+    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+    const auto [d, v] = heap_.back();
+    heap_.pop_back();
+    if (settled_[v] || d > dist_[v]) continue;
+    if (d > max_distance) break;
+    settled_[v] = 1;
+    settled_order_.push_back(VertexId(v));
+    if (is_target_[v] && --targets_left == 0) break;
+    if (mark_[v] == kBlocked && !is_source_[v]) continue;
+    for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {
+      const std::uint32_t w = g.head[slot].value();
+      if (mark_[w] == kForbidden) continue;
+      touch(w);
+      if (settled_[w]) continue;
+      const double nd = d + g.weight[slot];
+      if (nd < dist_[w]) {
+        dist_[w] = nd;
+        parent_[w] = g.halfedge[slot];
+        heap_.emplace_back(nd, w);
+        std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+      }
+    }
+  }
+  clear_targets();
+  return Ok{};
+}
+
+std::vector<HalfedgeId> PathSearch::path_to(const HalfedgeMesh& mesh, VertexId v) const {
+  std::vector<HalfedgeId> path;
+  if (!reached(v)) return path;
+  VertexId x = v;
+  for (HalfedgeId h = parent(x); h.valid(); h = parent(x)) {
+    path.push_back(h);
+    x = mesh.tail(h);
+  }
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+}  // namespace seam::core
