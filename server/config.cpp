@@ -1,0 +1,192 @@
+#include "server/config.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdlib>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <thread>
+
+namespace seam::server {
+namespace {
+
+// One table drives parsing, the environment and --help, so the three cannot disagree.
+struct OptionSpec {
+  const char* flag;  // without the leading "--"
+  const char* env;
+  const char* meaning;
+  // Applies a textual value; returns an error message (empty when accepted).
+  std::function<std::string(ServerConfig&, std::string_view)> apply;
+  std::function<std::string(const ServerConfig&)> show;
+};
+
+template <class T>
+std::optional<T> parse_number(std::string_view text) {
+  T value{};
+  const auto* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end || text.empty()) return std::nullopt;
+  return value;
+}
+
+// Integer option within [lo, hi]; the message states the range so a typo is fixable.
+template <class T, class Setter>
+std::function<std::string(ServerConfig&, std::string_view)> ranged(long long lo, long long hi, Setter set) {
+  return [lo, hi, set](ServerConfig& c, std::string_view text) -> std::string {
+    const auto v = parse_number<long long>(text);
+    if (!v || *v < lo || *v > hi) {
+      return "expects an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
+             std::string(text) + "'";
+    }
+    set(c, static_cast<T>(*v));
+    return {};
+  };
+}
+
+const std::vector<OptionSpec>& option_table() {
+  static const std::vector<OptionSpec> table = {
+      {"bind", "SEAMD_BIND", "address to listen on",
+       [](ServerConfig& c, std::string_view t) -> std::string {
+         if (t.empty()) return "expects an address, e.g. 0.0.0.0 or 127.0.0.1";
+         c.bind = std::string(t);
+         return {};
+       },
+       [](const ServerConfig& c) { return c.bind; }},
+      {"port", "SEAMD_PORT", "TCP port (0 = ephemeral)",
+       ranged<int>(0, 65535, [](ServerConfig& c, int v) { c.port = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.port); }},
+      {"workers", "SEAMD_WORKERS", "compute worker threads (0 = number of cores)",
+       ranged<unsigned>(0, 1024, [](ServerConfig& c, unsigned v) { c.workers = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.workers); }},
+      {"queue", "SEAMD_QUEUE", "jobs allowed to wait for a worker; beyond that 503 + Retry-After",
+       ranged<std::size_t>(0, 100000, [](ServerConfig& c, std::size_t v) { c.queue = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.queue); }},
+      {"http-threads", "SEAMD_HTTP_THREADS", "connection threads (0 = max(64, 2*(workers+queue)))",
+       ranged<unsigned>(0, 4096, [](ServerConfig& c, unsigned v) { c.http_threads = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.http_threads); }},
+      {"max-body-bytes", "SEAMD_MAX_BODY_BYTES", "request body limit in bytes; larger is 413",
+       ranged<std::size_t>(1024, 1ll << 40, [](ServerConfig& c, std::size_t v) { c.max_body_bytes = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.max_body_bytes); }},
+      {"time-budget-ms", "SEAMD_TIME_BUDGET_MS", "per-request budget incl. queueing; then 504",
+       ranged<long long>(1, 24ll * 3600 * 1000,
+                         [](ServerConfig& c, long long v) { c.time_budget = std::chrono::milliseconds(v); }),
+       [](const ServerConfig& c) { return std::to_string(c.time_budget.count()); }},
+      {"max-faces", "SEAMD_MAX_FACES", "largest primitive in faces; larger is 422",
+       ranged<std::size_t>(1, 1ll << 32, [](ServerConfig& c, std::size_t v) { c.max_faces = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.max_faces); }},
+      {"log-level", "SEAMD_LOG_LEVEL", "trace|debug|info|warn|error|critical|off",
+       [](ServerConfig& c, std::string_view t) -> std::string {
+         static const std::string_view kLevels[] = {"trace", "debug", "info", "warn",
+                                                    "error", "critical", "off"};
+         if (std::find(std::begin(kLevels), std::end(kLevels), t) == std::end(kLevels)) {
+           return "expects one of trace|debug|info|warn|error|critical|off, got '" + std::string(t) + "'";
+         }
+         c.log_level = std::string(t);
+         return {};
+       },
+       [](const ServerConfig& c) { return c.log_level; }},
+      {"read-timeout-s", "SEAMD_READ_TIMEOUT_S", "socket read timeout in seconds",
+       ranged<int>(1, 3600, [](ServerConfig& c, int v) { c.read_timeout_s = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.read_timeout_s); }},
+      {"write-timeout-s", "SEAMD_WRITE_TIMEOUT_S", "socket write timeout in seconds",
+       ranged<int>(1, 3600, [](ServerConfig& c, int v) { c.write_timeout_s = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.write_timeout_s); }},
+      {"keep-alive-timeout-s", "SEAMD_KEEP_ALIVE_TIMEOUT_S", "idle keep-alive timeout in seconds",
+       ranged<int>(1, 3600, [](ServerConfig& c, int v) { c.keep_alive_timeout_s = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.keep_alive_timeout_s); }},
+      {"drain-timeout-s", "SEAMD_DRAIN_TIMEOUT_S", "on SIGTERM, cancel in-flight work after this",
+       ranged<int>(0, 3600, [](ServerConfig& c, int v) { c.drain_timeout_s = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.drain_timeout_s); }},
+      {"retry-after-s", "SEAMD_RETRY_AFTER_S", "Retry-After seconds of a 503",
+       ranged<int>(0, 3600, [](ServerConfig& c, int v) { c.retry_after_s = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.retry_after_s); }},
+  };
+  return table;
+}
+
+api::ApiError bad(std::string message, const std::string& name) {
+  return api::make_api_error(api::ApiErrorCode::kInvalidParameter, std::move(message),
+                             {{"option", name}});
+}
+
+}  // namespace
+
+api::ApiResult<ParsedConfig> parse_config(int argc, const char* const* argv, const EnvLookup& env) {
+  ParsedConfig out;
+  const EnvLookup lookup = env ? env : EnvLookup([](const char* name) { return std::getenv(name); });
+  const auto& table = option_table();
+
+  // Environment first, so flags override it.
+  for (const auto& spec : table) {
+    if (const char* value = lookup(spec.env); value != nullptr) {
+      if (auto msg = spec.apply(out.config, value); !msg.empty()) {
+        return bad(std::string(spec.env) + " " + msg, spec.env);
+      }
+    }
+  }
+  for (int i = 1; i < argc; ++i) {
+    std::string_view arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      out.help = true;
+      continue;
+    }
+    if (arg.substr(0, 2) != "--") return bad("unexpected argument '" + std::string(arg) + "'; see seamd --help", std::string(arg));
+    arg.remove_prefix(2);
+    std::string_view value;
+    bool has_value = false;
+    if (const auto eq = arg.find('='); eq != std::string_view::npos) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+      has_value = true;
+    }
+    const auto it = std::find_if(table.begin(), table.end(), [&](const OptionSpec& s) { return arg == s.flag; });
+    if (it == table.end()) return bad("unknown flag --" + std::string(arg) + "; see seamd --help", std::string(arg));
+    if (!has_value) {
+      if (i + 1 >= argc) return bad("--" + std::string(arg) + " needs a value", std::string(arg));
+      value = argv[++i];
+    }
+    if (auto msg = it->apply(out.config, value); !msg.empty()) {
+      return bad("--" + std::string(arg) + " " + msg, std::string(arg));
+    }
+  }
+  return out;
+}
+
+std::string help_text() {
+  std::ostringstream os;
+  const ServerConfig defaults;
+  os << "seamd " << SEAM_VERSION << ": the seam service\n\n"
+     << "usage:\n"
+     << "  seamd [serve flags]      serve POST /seam, /healthz, /readyz, /metrics, /version\n"
+     << "  seamd seam --mesh FILE [--extrema i,j,k|auto] [--method skeleton|mst|greedy|optimal]\n"
+     << "             [--uv bff|lscm|arap|none] [--weld-epsilon X] [--out cut.glb] [--draco]\n"
+     << "  seamd sample --out sample.glb\n"
+     << "  seamd --help\n\n"
+     << "serve flags (--flag VALUE or --flag=VALUE; each also read from its environment variable;\n"
+     << "flags win over the environment):\n";
+  for (const auto& spec : option_table()) {
+    std::string flag = std::string("  --") + spec.flag;
+    flag.resize(std::max<std::size_t>(flag.size() + 1, 26), ' ');
+    std::string env = spec.env;
+    env.resize(std::max<std::size_t>(env.size() + 1, 28), ' ');
+    os << flag << env << spec.meaning << " (default " << spec.show(defaults) << ")\n";
+  }
+  os << "\nSIGTERM/SIGINT: stop accepting, finish in-flight work (up to --drain-timeout-s), exit 0.\n";
+  return os.str();
+}
+
+unsigned effective_workers(const ServerConfig& config) {
+  if (config.workers > 0) return config.workers;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+unsigned effective_http_threads(const ServerConfig& config) {
+  if (config.http_threads > 0) return config.http_threads;
+  // Each keep-alive connection holds a thread while it waits for its seam, so the pool must
+  // cover every admitted job plus connections that will be refused with 503 or ask /metrics.
+  const auto needed = 2 * (effective_workers(config) + static_cast<unsigned>(config.queue));
+  return std::max(64u, needed);
+}
+
+}  // namespace seam::server

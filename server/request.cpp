@@ -1,0 +1,171 @@
+#include "server/request.h"
+
+#include <array>
+#include <cctype>
+
+namespace seam::server {
+namespace {
+
+using api::ApiErrorCode;
+using api::make_api_error;
+
+constexpr std::string_view kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
+
+}  // namespace
+
+std::string media_type(std::string_view content_type) {
+  const auto semi = content_type.find(';');
+  std::string out(trim(content_type.substr(0, semi)));
+  for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+api::ApiResult<std::string> decode_base64(std::string_view text) {
+  std::array<int, 256> value{};
+  value.fill(-1);
+  for (std::size_t i = 0; i < kAlphabet.size(); ++i) value[static_cast<unsigned char>(kAlphabet[i])] = static_cast<int>(i);
+  std::string out;
+  out.reserve(text.size() / 4 * 3 + 3);
+  std::uint32_t acc = 0;
+  int bits = 0;
+  std::size_t padding = 0;
+  std::size_t symbols = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
+    if (c == '=') {
+      ++padding;
+      continue;
+    }
+    // Data after padding, or a character outside the alphabet, is corrupt input, not noise.
+    if (padding > 0 || value[c] < 0) {
+      return make_api_error(ApiErrorCode::kMalformedRequest,
+                            "mesh.glb_base64 is not valid base64: unexpected character at offset " +
+                                std::to_string(i),
+                            {{"offset", i}});
+    }
+    ++symbols;
+    acc = (acc << 6) | static_cast<std::uint32_t>(value[c]);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<char>((acc >> bits) & 0xFFu));
+    }
+  }
+  if (symbols % 4 == 1 || padding > 2 || (padding > 0 && (symbols + padding) % 4 != 0)) {
+    return make_api_error(ApiErrorCode::kMalformedRequest,
+                          "mesh.glb_base64 is not valid base64: truncated (length " + std::to_string(symbols) +
+                              " symbols)");
+  }
+  return out;
+}
+
+std::string encode_base64(std::string_view bytes) {
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const std::uint32_t v = (static_cast<unsigned char>(bytes[i]) << 16) |
+                            (static_cast<unsigned char>(bytes[i + 1]) << 8) | static_cast<unsigned char>(bytes[i + 2]);
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += kAlphabet[(v >> 6) & 63];
+    out += kAlphabet[v & 63];
+  }
+  if (i < bytes.size()) {
+    std::uint32_t v = static_cast<unsigned char>(bytes[i]) << 16;
+    if (i + 1 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+std::optional<api::AssetKind> asset_kind_for_media_type(std::string_view media) {
+  if (media == "model/gltf-binary") return api::AssetKind::kGlb;
+  if (media == "model/gltf+json") return api::AssetKind::kGltfJson;
+  // Draco has no registered media type; octet-stream is sniffed (GLB and glTF JSON too).
+  if (media == "application/octet-stream") return api::AssetKind::kAuto;
+  return std::nullopt;
+}
+
+api::ApiResult<SeamRequest> parse_json_request(std::string_view body) {
+  auto json = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded()) {
+    return make_api_error(ApiErrorCode::kMalformedRequest, "the request body is not valid JSON");
+  }
+  if (!json.is_object()) {
+    return make_api_error(ApiErrorCode::kMalformedRequest,
+                          "the request body must be a JSON object: {\"mesh\": {\"glb_base64\": ...}, ...parameters}");
+  }
+  const auto mesh_it = json.find("mesh");
+  if (mesh_it == json.end() || !mesh_it->is_object()) {
+    return make_api_error(ApiErrorCode::kMalformedRequest,
+                          "missing \"mesh\": give {\"mesh\": {\"glb_base64\": \"...\"}} or {\"mesh\": {\"gltf\": {...}}}");
+  }
+  SeamRequest out;
+  const auto& mesh = *mesh_it;
+  const auto b64 = mesh.find("glb_base64");
+  const auto gltf = mesh.find("gltf");
+  if ((b64 != mesh.end()) == (gltf != mesh.end()) || mesh.size() != 1) {
+    return make_api_error(ApiErrorCode::kMalformedRequest,
+                          "\"mesh\" must have exactly one of \"glb_base64\" (a string) or \"gltf\" (an object)");
+  }
+  if (b64 != mesh.end()) {
+    if (!b64->is_string()) {
+      return make_api_error(ApiErrorCode::kMalformedRequest, "mesh.glb_base64 must be a base64 string");
+    }
+    SEAM_TRY(out.asset, decode_base64(b64->get_ref<const std::string&>()));
+    out.kind = api::AssetKind::kAuto;  // GLB normally; a base64 Draco mesh is sniffed too
+  } else {
+    if (!gltf->is_object()) {
+      return make_api_error(ApiErrorCode::kMalformedRequest, "mesh.gltf must be a glTF JSON object");
+    }
+    out.asset = gltf->dump();
+    out.kind = api::AssetKind::kGltfJson;
+  }
+  json.erase(mesh_it);
+  SEAM_TRY(out.params, api::params_from_json(json));
+  return out;
+}
+
+api::ApiResult<api::SeamParams> parse_params_part(std::string_view text) {
+  if (trim(text).empty()) return api::params_from_json(nlohmann::json::object());
+  auto json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded() || !json.is_object()) {
+    return make_api_error(ApiErrorCode::kMalformedRequest, "the params part must be a JSON object, e.g. {\"extrema\":[1,2,3]}");
+  }
+  return api::params_from_json(json);
+}
+
+api::ApiResult<api::SeamParams> parse_query_params(const std::vector<std::pair<std::string, std::string>>& query) {
+  return api::params_from_query(query);
+}
+
+bool accepts_glb(std::string_view accept) {
+  std::size_t start = 0;
+  while (start <= accept.size()) {
+    const auto comma = accept.find(',', start);
+    const auto item = accept.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    if (media_type(item) == "model/gltf-binary") {
+      // "q=0" means "not acceptable" (RFC 9110 §12.4.2).
+      const auto q = item.find("q=");
+      if (q == std::string_view::npos) return true;
+      const auto qv = trim(item.substr(q + 2));
+      return !(qv == "0" || qv == "0.0" || qv == "0.00" || qv == "0.000");
+    }
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return false;
+}
+
+}  // namespace seam::server

@@ -1,0 +1,53 @@
+// Pure request decoding for POST /seam (no sockets, no httplib): the three request forms of
+// API.md turned into asset bytes, their kind and the parameters. Kept apart from the handler
+// so every branch is testable without HTTP.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "api/error.h"
+#include "api/pipeline.h"
+
+namespace seam::server {
+
+/// One decoded seam request.
+struct SeamRequest {
+  std::string asset;                         ///< the asset bytes
+  api::AssetKind kind = api::AssetKind::kAuto;
+  api::SeamParams params;
+};
+
+/// Lower-cased media type without parameters: "Model/GLTF-Binary; x=y" -> "model/gltf-binary".
+std::string media_type(std::string_view content_type);
+
+/// Strict RFC 4648 base64 (standard alphabet; padding optional; ASCII whitespace ignored).
+/// Errors: kMalformedRequest naming the first bad character's offset. O(n).
+api::ApiResult<std::string> decode_base64(std::string_view text);
+
+/// Standard base64 with padding. O(n).
+std::string encode_base64(std::string_view bytes);
+
+/// The asset kind a media type announces: model/gltf-binary -> kGlb, model/gltf+json ->
+/// kGltfJson, application/octet-stream (Draco, or anything sniffable) -> kAuto.
+/// nullopt for media types the service does not take (the caller answers 415).
+std::optional<api::AssetKind> asset_kind_for_media_type(std::string_view media);
+
+/// Form 2: `{"mesh": {"glb_base64": "..."} | {"gltf": {...}}, ...parameters}`.
+/// Errors: kMalformedRequest (bad JSON, no mesh, bad base64), whatever params_from_json returns.
+api::ApiResult<SeamRequest> parse_json_request(std::string_view body);
+
+/// Form 1's `params` part (may be empty: defaults). Errors as params_from_json, or
+/// kMalformedRequest when it is not a JSON object.
+api::ApiResult<api::SeamParams> parse_params_part(std::string_view text);
+
+/// Query parameters (`?extrema=1,2&method=mst`); an empty list gives the defaults.
+api::ApiResult<api::SeamParams> parse_query_params(const std::vector<std::pair<std::string, std::string>>& query);
+
+/// True when an Accept header asks for the binary asset (model/gltf-binary listed with q > 0).
+bool accepts_glb(std::string_view accept);
+
+}  // namespace seam::server

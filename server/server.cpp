@@ -1,0 +1,536 @@
+// Eigen (through api/pipeline.h) must be parsed before httplib.h: httplib includes <resolv.h>,
+// whose `_res` macro breaks Eigen's templates (shared/notes/stack.md).
+#include "server/server.h"
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <future>
+#include <mutex>
+#include <random>
+#include <set>
+#include <thread>
+#include <unordered_map>
+
+#include "server/request.h"
+#include "server/worker_pool.h"
+
+#include <httplib.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
+
+namespace seam::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using api::ApiError;
+using api::ApiErrorCode;
+using api::make_api_error;
+
+constexpr const char* kRequestIdHeader = "X-Request-Id";
+constexpr const char* kJsonType = "application/json";
+constexpr const char* kGlbType = "model/gltf-binary";
+
+// Fixed route labels keep metric cardinality bounded whatever paths clients probe.
+std::string route_label(const std::string& path) {
+  for (const char* r : {"/seam", "/healthz", "/readyz", "/metrics", "/version"}) {
+    if (path == r) return r;
+  }
+  return "other";
+}
+
+// An echoed id must be safe to log and to put back into a header.
+bool acceptable_request_id(const std::string& id) {
+  if (id.empty() || id.size() > 128) return false;
+  for (const char c : id) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' || c == ':')) return false;
+  }
+  return true;
+}
+
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+SeamJob pipeline_job() {
+  return [](const std::string& asset, api::AssetKind kind, const api::SeamParams& params,
+            const api::PipelineLimits& limits, const core::CancelToken& cancel) {
+    return api::run_seam_pipeline(asset, kind, params, limits, cancel);
+  };
+}
+
+// One seam job shared by the connection thread (which may give up at the deadline) and the
+// worker (which may still be running then): whoever finishes last frees it.
+struct JobState {
+  explicit JobState(Clock::time_point deadline) : token(deadline) {}
+  core::CancelToken token;
+  std::string asset;
+  api::AssetKind kind = api::AssetKind::kAuto;
+  api::SeamParams params;
+  std::promise<api::ApiResult<api::PipelineOutput>> promise;
+  Clock::time_point started{};
+  Clock::time_point finished{};
+};
+
+// What the log line and the metrics need to know about one request beyond req/res.
+struct RequestRecord {
+  Clock::time_point start{};
+  double queue_ms = -1;
+  double compute_ms = -1;
+  std::string error_code;
+};
+
+struct Server::Impl {
+  Impl(ServerConfig c, SeamJob j)
+      : config(std::move(c)),
+        job(j ? std::move(j) : pipeline_job()),
+        pool(effective_workers(config), config.queue),
+        rng(std::random_device{}()) {
+    auto sink = std::make_shared<spdlog::sinks::stdout_sink_mt>();
+    // Not registered globally: several servers (tests) can coexist with their own levels.
+    log = std::make_shared<spdlog::logger>("seamd", std::move(sink));
+    log->set_pattern("%v");
+    log->set_level(spdlog::level::from_str(config.log_level));
+    log->flush_on(spdlog::level::info);
+    configure_http();
+  }
+
+  ServerConfig config;
+  SeamJob job;
+  WorkerPool pool;
+  Metrics metrics;
+  httplib::Server http;
+  std::shared_ptr<spdlog::logger> log;
+  int bound_port = -1;
+
+  std::atomic<bool> draining{false};
+  std::atomic<std::size_t> in_flight{0};
+
+  std::mutex rng_mutex;
+  std::mt19937_64 rng;
+
+  std::mutex records_mutex;
+  std::unordered_map<const httplib::Request*, RequestRecord> records;
+
+  // Live jobs, so a drain that runs out of time can cancel them.
+  std::mutex jobs_mutex;
+  std::condition_variable jobs_done;
+  std::set<JobState*> live_jobs;
+  std::thread drain_watchdog;
+  std::mutex shutdown_mutex;
+
+  // ---- request bookkeeping -------------------------------------------------------------
+
+  std::string new_request_id() {
+    std::lock_guard lock(rng_mutex);
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(rng()));
+    return buf;
+  }
+
+  // Called before routing (and as a fallback from the error and post-routing handlers for
+  // requests that failed before routing): echo a valid X-Request-Id or make one.
+  void ensure_request_id(const httplib::Request& req, httplib::Response& res) {
+    if (res.has_header(kRequestIdHeader)) return;
+    const auto given = req.get_header_value(kRequestIdHeader);
+    res.set_header(kRequestIdHeader, acceptable_request_id(given) ? given : new_request_id());
+  }
+
+  template <class F>
+  void with_record(const httplib::Request& req, F&& f) {
+    std::lock_guard lock(records_mutex);
+    f(records[&req]);
+  }
+
+  void send_error(const httplib::Request& req, httplib::Response& res, const ApiError& error) {
+    res.status = api::http_status(error.code);
+    res.set_content(api::error_body(error).dump(), kJsonType);
+    with_record(req, [&](RequestRecord& r) { r.error_code = std::string(api::code_name(error.code)); });
+    if (res.status >= 500 && res.status != 503 && res.status != 504) {
+      log->error(nlohmann::json{{"event", "internal_error"},
+                                {"request_id", res.get_header_value(kRequestIdHeader)},
+                                {"message", error.message}}
+                     .dump());
+    }
+  }
+
+  // ---- POST /seam ----------------------------------------------------------------------
+
+  api::ApiResult<SeamRequest> decode(const httplib::Request& req) {
+    const auto media = media_type(req.get_header_value("Content-Type"));
+    std::vector<std::pair<std::string, std::string>> query(req.params.begin(), req.params.end());
+    if (media == "multipart/form-data") {
+      if (!req.has_file("mesh")) {
+        return make_api_error(ApiErrorCode::kMalformedRequest,
+                              "multipart request without a 'mesh' part: curl -F mesh=@asset.glb ...");
+      }
+      SeamRequest out;
+      const auto mesh = req.get_file_value("mesh");
+      const auto kind = asset_kind_for_media_type(media_type(mesh.content_type));
+      out.kind = kind ? *kind : api::AssetKind::kAuto;  // curl labels files by extension, or not at all
+      out.asset = mesh.content;
+      if (req.has_file("params")) {
+        if (!query.empty()) {
+          return make_api_error(ApiErrorCode::kInvalidParameter,
+                                "parameters given both in the params part and in the query string; use one");
+        }
+        SEAM_TRY(out.params, parse_params_part(req.get_file_value("params").content));
+      } else {
+        SEAM_TRY(out.params, parse_query_params(query));
+      }
+      return out;
+    }
+    if (media == "application/json") {
+      if (!query.empty()) {
+        return make_api_error(ApiErrorCode::kInvalidParameter,
+                              "with a JSON body the parameters go in the body, not the query string");
+      }
+      return parse_json_request(req.body);
+    }
+    const auto kind = asset_kind_for_media_type(media);
+    if (!kind) {
+      return make_api_error(
+          ApiErrorCode::kUnsupportedMediaType,
+          "unsupported Content-Type '" + media +
+              "': use multipart/form-data, application/json, model/gltf-binary, model/gltf+json or "
+              "application/octet-stream",
+          {{"content_type", media}});
+    }
+    SeamRequest out;
+    out.kind = *kind;
+    out.asset = req.body;
+    SEAM_TRY(out.params, parse_query_params(query));
+    return out;
+  }
+
+  void handle_seam(const httplib::Request& req, httplib::Response& res) {
+    ++in_flight;
+    struct Leave {
+      std::atomic<std::size_t>& n;
+      ~Leave() { --n; }
+    } leave{in_flight};
+
+    const auto deadline = Clock::now() + config.time_budget;
+    auto decoded = decode(req);
+    if (!decoded.ok()) return send_error(req, res, decoded.error());
+    SeamRequest& request = decoded.value();
+    if (request.asset.empty()) {
+      return send_error(req, res, make_api_error(ApiErrorCode::kMalformedRequest, "the request carries no asset bytes"));
+    }
+    if (accepts_glb(req.get_header_value("Accept"))) request.params.output = api::OutputFormat::kGlb;
+    if (draining) {
+      res.set_header("Retry-After", std::to_string(config.retry_after_s));
+      return send_error(req, res, make_api_error(ApiErrorCode::kQueueFull, "the server is shutting down; retry on another replica"));
+    }
+
+    auto state = std::make_shared<JobState>(deadline);
+    state->asset = std::move(request.asset);
+    state->kind = request.kind;
+    state->params = std::move(request.params);
+    auto future = state->promise.get_future();
+    const api::PipelineLimits limits{.max_faces = config.max_faces};
+    {
+      std::lock_guard lock(jobs_mutex);
+      live_jobs.insert(state.get());
+    }
+    const auto enqueued = Clock::now();
+    const bool admitted = pool.try_submit([this, state, limits] {
+      state->started = Clock::now();
+      try {
+        if (state->token.is_cancelled()) {
+          state->promise.set_value(make_api_error(ApiErrorCode::kTimeout, "the time budget ran out while queued"));
+        } else {
+          state->promise.set_value(job(state->asset, state->kind, state->params, limits, state->token));
+        }
+      } catch (const std::bad_alloc&) {
+        state->promise.set_value(make_api_error(ApiErrorCode::kInternal, "out of memory while computing the seam"));
+      } catch (const std::exception& e) {
+        state->promise.set_value(make_api_error(ApiErrorCode::kInternal, std::string("unexpected exception: ") + e.what()));
+      }
+      state->finished = Clock::now();
+      std::lock_guard lock(jobs_mutex);
+      live_jobs.erase(state.get());
+      jobs_done.notify_all();
+    });
+    if (!admitted) {
+      {
+        std::lock_guard lock(jobs_mutex);
+        live_jobs.erase(state.get());
+      }
+      res.set_header("Retry-After", std::to_string(config.retry_after_s));
+      return send_error(req, res,
+                        make_api_error(ApiErrorCode::kQueueFull,
+                                       "all " + std::to_string(pool.workers()) + " workers are busy and the queue of " +
+                                           std::to_string(pool.queue_capacity()) + " is full; retry later",
+                                       {{"workers", pool.workers()}, {"queue", pool.queue_capacity()}}));
+    }
+
+    // A job that polls its token returns kTimeout right at the deadline; the grace covers the
+    // last poll interval. A job that does not poll is abandoned: the client still gets its 504
+    // and the worker is released as soon as the job notices the cancelled token.
+    if (future.wait_until(deadline + std::chrono::milliseconds(250)) != std::future_status::ready) {
+      state->token.cancel();
+      with_record(req, [&](RequestRecord& r) { r.queue_ms = ms_between(enqueued, Clock::now()); });
+      return send_error(req, res, budget_error());
+    }
+    auto result = future.get();
+    with_record(req, [&](RequestRecord& r) {
+      r.queue_ms = ms_between(enqueued, state->started);
+      r.compute_ms = ms_between(state->started, state->finished);
+    });
+    if (!result.ok()) {
+      auto error = result.take_error();
+      if (error.code == ApiErrorCode::kTimeout) error = budget_error();
+      return send_error(req, res, error);
+    }
+    auto& output = result.value();
+    if (state->params.output == api::OutputFormat::kGlb) {
+      res.status = 200;
+      res.body = std::move(output.glb);
+      res.set_header("Content-Type", kGlbType);
+    } else {
+      res.status = 200;
+      res.set_content(output.body.dump(), kJsonType);
+    }
+  }
+
+  ApiError budget_error() const {
+    return make_api_error(ApiErrorCode::kTimeout,
+                          "the seam computation exceeded the time budget of " +
+                              std::to_string(config.time_budget.count()) +
+                              " ms (queueing included); try fewer extrema, a smaller mesh or another method",
+                          {{"time_budget_ms", config.time_budget.count()}});
+  }
+
+  // ---- operations ----------------------------------------------------------------------
+
+  GaugeSnapshot gauges() const {
+    return GaugeSnapshot{.queue_depth = pool.queue_depth(),
+                         .busy_workers = pool.busy(),
+                         .workers = pool.workers(),
+                         .queue_capacity = pool.queue_capacity(),
+                         .in_flight = in_flight.load(),
+                         .draining = draining.load()};
+  }
+
+  void handle_readyz(httplib::Response& res) {
+    const auto g = gauges();
+    const bool full = pool.full();
+    const char* status = draining ? "draining" : full ? "busy" : "ready";
+    res.status = (draining || full) ? 503 : 200;
+    res.set_content(nlohmann::json{{"status", status},
+                                   {"queue_depth", g.queue_depth},
+                                   {"busy_workers", g.busy_workers},
+                                   {"workers", g.workers}}
+                        .dump(),
+                    kJsonType);
+  }
+
+  // ---- wiring --------------------------------------------------------------------------
+
+  void method_not_allowed(const std::string& path, const std::string& allow) {
+    auto handler = [this, allow](const httplib::Request& req, httplib::Response& res) {
+      res.set_header("Allow", allow);
+      send_error(req, res,
+                 make_api_error(ApiErrorCode::kMethodNotAllowed,
+                                req.method + " is not allowed on " + req.path + "; use " + allow,
+                                {{"allow", allow}}));
+    };
+    if (allow.find("GET") == std::string::npos) http.Get(path, handler);
+    if (allow.find("POST") == std::string::npos) http.Post(path, handler);
+    http.Put(path, handler);
+    http.Patch(path, handler);
+    http.Delete(path, handler);
+  }
+
+  void configure_http() {
+    http.set_tcp_nodelay(true);
+    http.set_payload_max_length(config.max_body_bytes);
+    http.set_read_timeout(config.read_timeout_s, 0);
+    http.set_write_timeout(config.write_timeout_s, 0);
+    http.set_keep_alive_timeout(config.keep_alive_timeout_s);
+    const unsigned threads = effective_http_threads(config);
+    http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+
+    http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+      ensure_request_id(req, res);
+      with_record(req, [](RequestRecord& r) { r = RequestRecord{.start = Clock::now()}; });
+      return httplib::Server::HandlerResponse::Unhandled;
+    });
+    http.set_post_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+      ensure_request_id(req, res);
+    });
+    // Statuses httplib sets itself (404, 400 for unparsable requests, 413) get the one JSON
+    // error body too; bodies our handlers already wrote are left alone.
+    http.set_error_handler(httplib::Server::HandlerWithResponse([this](const httplib::Request& req,
+                                                                        httplib::Response& res) {
+      ensure_request_id(req, res);
+      if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+      ApiError error;
+      switch (res.status) {
+        case 404:
+          error = make_api_error(ApiErrorCode::kNotFound,
+                                 "no route " + req.path + "; routes: POST /seam, GET /healthz, /readyz, /metrics, /version");
+          break;
+        case 413:
+          error = make_api_error(ApiErrorCode::kPayloadTooLarge,
+                                 "the request body is larger than the limit of " + std::to_string(config.max_body_bytes) +
+                                     " bytes (--max-body-bytes)",
+                                 {{"limit_bytes", config.max_body_bytes}});
+          break;
+        case 415:
+          error = make_api_error(ApiErrorCode::kUnsupportedMediaType, "unsupported media type");
+          break;
+        case 400:
+          error = make_api_error(ApiErrorCode::kMalformedRequest,
+                                 "malformed HTTP request (bad request line, headers, chunking or multipart body)");
+          break;
+        default:
+          if (res.status >= 500) {
+            error = make_api_error(ApiErrorCode::kInternal, "internal error");
+          } else {
+            error = make_api_error(ApiErrorCode::kMalformedRequest, "request failed with HTTP status " + std::to_string(res.status));
+          }
+      }
+      const int status = res.status;
+      send_error(req, res, error);
+      if (status != api::http_status(error.code)) res.status = status;  // keep e.g. 414, 416
+      return httplib::Server::HandlerResponse::Handled;
+    }));
+    http.set_exception_handler([this](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+      std::string what = "unknown exception";
+      try {
+        if (ep) std::rethrow_exception(ep);
+      } catch (const std::exception& e) {
+        what = e.what();
+      } catch (...) {
+      }
+      ensure_request_id(req, res);
+      res.body.clear();
+      send_error(req, res, make_api_error(ApiErrorCode::kInternal, "internal error: " + what));
+    });
+    http.set_logger([this](const httplib::Request& req, const httplib::Response& res) { log_request(req, res); });
+
+    http.Post("/seam", [this](const httplib::Request& req, httplib::Response& res) { handle_seam(req, res); });
+    method_not_allowed("/seam", "POST");
+    http.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(R"({"status":"ok"})", kJsonType);
+    });
+    http.Get("/readyz", [this](const httplib::Request&, httplib::Response& res) { handle_readyz(res); });
+    http.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(metrics.render(gauges()), "text/plain; version=0.0.4; charset=utf-8");
+    });
+    http.Get("/version", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(version_info().dump(), kJsonType);
+    });
+    for (const char* path : {"/healthz", "/readyz", "/metrics", "/version"}) method_not_allowed(path, "GET, HEAD");
+  }
+
+  void log_request(const httplib::Request& req, const httplib::Response& res) {
+    RequestRecord record;
+    {
+      std::lock_guard lock(records_mutex);
+      if (auto it = records.find(&req); it != records.end()) {
+        record = std::move(it->second);
+        records.erase(it);
+      }
+    }
+    const auto now = Clock::now();
+    const double ms = record.start == Clock::time_point{} ? 0.0 : ms_between(record.start, now);
+    const auto route = route_label(req.path);
+    std::size_t bytes_in = req.body.size();
+    for (const auto& [name, file] : req.files) bytes_in += file.content.size();
+    metrics.record(route, res.status, ms / 1000.0, bytes_in, res.body.size());
+    if (!log->should_log(spdlog::level::info)) return;
+    nlohmann::json line{{"ts", std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()},
+                        {"level", res.status >= 500 && res.status != 503 && res.status != 504 ? "error" : "info"},
+                        {"request_id", res.get_header_value(kRequestIdHeader)},
+                        {"method", req.method},
+                        {"route", route},
+                        {"status", res.status},
+                        {"bytes_in", bytes_in},
+                        {"bytes_out", res.body.size()},
+                        {"duration_ms", ms},
+                        {"remote", req.remote_addr}};
+    if (route == "other") line["path"] = req.path.substr(0, 200);
+    if (record.queue_ms >= 0) line["queue_ms"] = record.queue_ms;
+    if (record.compute_ms >= 0) line["compute_ms"] = record.compute_ms;
+    if (!record.error_code.empty()) line["error_code"] = record.error_code;
+    // Lossy UTF-8 replacement: a hostile path must not make the log line throw.
+    log->info(line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  }
+
+  void start_drain_watchdog() {
+    drain_watchdog = std::thread([this] {
+      std::unique_lock lock(jobs_mutex);
+      const auto limit = std::chrono::seconds(config.drain_timeout_s);
+      if (!jobs_done.wait_for(lock, limit, [this] { return live_jobs.empty(); })) {
+        log->warn(nlohmann::json{{"event", "drain_timeout"}, {"cancelled_jobs", live_jobs.size()}}.dump());
+        for (auto* s : live_jobs) s->token.cancel();
+      }
+    });
+  }
+};
+
+Server::Server(ServerConfig config, SeamJob job) : impl_(std::make_unique<Impl>(std::move(config), std::move(job))) {}
+
+Server::~Server() {
+  shutdown();
+  impl_->pool.shutdown();
+  if (impl_->drain_watchdog.joinable()) impl_->drain_watchdog.join();
+}
+
+api::ApiResult<int> Server::bind() {
+  auto& c = impl_->config;
+  const int port = c.port == 0 ? impl_->http.bind_to_any_port(c.bind) : (impl_->http.bind_to_port(c.bind, c.port) ? c.port : -1);
+  if (port < 0) {
+    return make_api_error(ApiErrorCode::kInternal,
+                          "cannot listen on " + c.bind + ":" + std::to_string(c.port) + " (address in use or invalid)");
+  }
+  impl_->bound_port = port;
+  return port;
+}
+
+void Server::run() {
+  impl_->log->info(nlohmann::json{{"event", "listening"},
+                                  {"bind", impl_->config.bind},
+                                  {"port", impl_->bound_port},
+                                  {"workers", impl_->pool.workers()},
+                                  {"queue", impl_->pool.queue_capacity()},
+                                  {"http_threads", effective_http_threads(impl_->config)},
+                                  {"version", SEAM_VERSION}}
+                       .dump());
+  // Returns once stop() closed the listening socket and the connection threads finished
+  // their requests (httplib joins its pool), so every in-flight client has its answer.
+  impl_->http.listen_after_bind();
+  impl_->pool.shutdown();
+  {
+    std::lock_guard lock(impl_->shutdown_mutex);
+    if (impl_->drain_watchdog.joinable()) {
+      {
+        std::lock_guard jl(impl_->jobs_mutex);
+        impl_->jobs_done.notify_all();
+      }
+      impl_->drain_watchdog.join();
+    }
+  }
+  impl_->log->info(nlohmann::json{{"event", "stopped"}}.dump());
+  impl_->log->flush();
+}
+
+void Server::shutdown() {
+  std::lock_guard lock(impl_->shutdown_mutex);
+  if (impl_->draining.exchange(true)) return;
+  impl_->log->info(nlohmann::json{{"event", "draining"}, {"in_flight", impl_->in_flight.load()}}.dump());
+  impl_->start_drain_watchdog();
+  impl_->http.stop();
+}
+
+bool Server::is_running() const { return impl_->http.is_running(); }
+int Server::port() const { return impl_->bound_port; }
+const ServerConfig& Server::config() const { return impl_->config; }
+const Metrics& Server::metrics() const { return impl_->metrics; }
+
+}  // namespace seam::server
