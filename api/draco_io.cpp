@@ -1,0 +1,214 @@
+#include "api/draco_io.h"
+
+#include <cstring>
+
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+
+namespace seam::api {
+namespace {
+
+ApiError malformed(std::string message) { return make_api_error(ApiErrorCode::kMalformedAsset, std::move(message)); }
+
+int gltf_component_type(draco::DataType type) {
+  switch (type) {
+    case draco::DT_INT8: return 5120;
+    case draco::DT_UINT8: return 5121;
+    case draco::DT_INT16: return 5122;
+    case draco::DT_UINT16: return 5123;
+    case draco::DT_UINT32: return 5125;
+    case draco::DT_FLOAT32: return 5126;
+    default: return 0;
+  }
+}
+
+draco::DataType draco_data_type(int component_type) {
+  switch (component_type) {
+    case 5120: return draco::DT_INT8;
+    case 5121: return draco::DT_UINT8;
+    case 5122: return draco::DT_INT16;
+    case 5123: return draco::DT_UINT16;
+    case 5125: return draco::DT_UINT32;
+    case 5126: return draco::DT_FLOAT32;
+    default: return draco::DT_INVALID;
+  }
+}
+
+std::string semantic_name(draco::GeometryAttribute::Type type) {
+  switch (type) {
+    case draco::GeometryAttribute::POSITION: return "POSITION";
+    case draco::GeometryAttribute::NORMAL: return "NORMAL";
+    case draco::GeometryAttribute::COLOR: return "COLOR";
+    case draco::GeometryAttribute::TEX_COORD: return "TEX_COORD";
+    default: return "GENERIC";
+  }
+}
+
+draco::GeometryAttribute::Type draco_semantic(const std::string& gltf_name) {
+  if (gltf_name == "POSITION") return draco::GeometryAttribute::POSITION;
+  if (gltf_name == "NORMAL") return draco::GeometryAttribute::NORMAL;
+  if (gltf_name.rfind("TEXCOORD_", 0) == 0) return draco::GeometryAttribute::TEX_COORD;
+  if (gltf_name.rfind("COLOR_", 0) == 0) return draco::GeometryAttribute::COLOR;
+  return draco::GeometryAttribute::GENERIC;
+}
+
+template <class T>
+bool convert_all(const draco::PointAttribute& attribute, std::size_t num_points, int components,
+                 std::vector<std::uint8_t>& out) {
+  out.resize(num_points * sizeof(T) * static_cast<std::size_t>(components));
+  T value[4];
+  for (std::size_t p = 0; p < num_points; ++p) {
+    const draco::AttributeValueIndex avi = attribute.mapped_index(draco::PointIndex(static_cast<std::uint32_t>(p)));
+    if (avi.value() >= attribute.size()) return false;
+    if (!attribute.ConvertValue<T>(avi, static_cast<std::int8_t>(components), value)) return false;
+    std::memcpy(out.data() + p * sizeof(T) * components, value, sizeof(T) * components);
+  }
+  return true;
+}
+
+core::Result<EncodedDraco, std::string> encode_once(std::span<const AttributeArray> attributes,
+                                              std::span<const core::Triangle> triangles,
+                                              const DracoEncodeOptions& options, bool sequential) {
+  const std::size_t n = attributes.empty() ? 0 : attributes.front().count;
+  draco::Mesh mesh;
+  mesh.set_num_points(static_cast<std::uint32_t>(n));
+  for (const auto& t : triangles) {
+    mesh.AddFace({draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
+  }
+  EncodedDraco result;
+  for (const auto& a : attributes) {
+    draco::GeometryAttribute ga;
+    const auto dt = draco_data_type(a.component_type);
+    if (dt == draco::DT_INVALID || a.components < 1 || a.components > 4 || a.count != n) {
+      return std::string("attribute ") + a.name + " cannot be Draco-encoded";
+    }
+    ga.Init(draco_semantic(a.name), nullptr, static_cast<std::uint8_t>(a.components), dt, a.normalized,
+            static_cast<std::int64_t>(a.element_size()), 0);
+    // identity_mapping: point p has value p. We never deduplicate values: each output vertex
+    // must stay one glTF vertex.
+    const int id = mesh.AddAttribute(ga, true, static_cast<std::uint32_t>(n));
+    if (id < 0) return std::string("draco refused attribute ") + a.name;
+    draco::PointAttribute* pa = mesh.attribute(id);
+    for (std::size_t i = 0; i < n; ++i) {
+      pa->SetAttributeValue(draco::AttributeValueIndex(static_cast<std::uint32_t>(i)),
+                            a.data.data() + i * a.element_size());
+    }
+    result.unique_ids.push_back(pa->unique_id());
+  }
+  draco::Encoder encoder;
+  encoder.SetSpeedOptions(options.speed, options.speed);
+  if (options.position_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, options.position_bits);
+  if (options.texcoord_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, options.texcoord_bits);
+  if (options.normal_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, options.normal_bits);
+  if (options.generic_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, options.generic_bits);
+  encoder.SetEncodingMethod(sequential ? draco::MESH_SEQUENTIAL_ENCODING : draco::MESH_EDGEBREAKER_ENCODING);
+  draco::EncoderBuffer buffer;
+  const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+  if (!status.ok()) return std::string("draco encode failed: ") + status.error_msg_string();
+  result.bytes.assign(buffer.data(), buffer.size());
+  result.sequential = sequential;
+  return result;
+}
+
+}  // namespace
+
+ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const ReadLimits& limits) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
+  if (!type.ok()) return malformed("Draco: " + type.status().error_msg_string());
+  if (type.value() != draco::TRIANGULAR_MESH) {
+    return make_api_error(ApiErrorCode::kNoTrianglePrimitive, "the Draco data is a point cloud, not a triangle mesh");
+  }
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+  if (!decoded.ok()) return malformed("Draco decode failed: " + decoded.status().error_msg_string());
+  std::shared_ptr<const draco::Mesh> mesh(std::move(decoded).value());
+  if (!mesh) return malformed("Draco decode returned no mesh");
+  DracoMesh out;
+  out.num_points = mesh->num_points();
+  if (mesh->num_faces() > limits.max_faces) {
+    return make_api_error(ApiErrorCode::kMeshTooLarge, "the Draco mesh has " + std::to_string(mesh->num_faces()) +
+                                                           " faces, more than the limit of " +
+                                                           std::to_string(limits.max_faces));
+  }
+  if (out.num_points > limits.max_vertices) {
+    return make_api_error(ApiErrorCode::kMeshTooLarge, "the Draco mesh has too many points");
+  }
+  if (mesh->num_faces() == 0) return make_api_error(ApiErrorCode::kEmptyMesh, "the Draco mesh has no faces");
+  out.triangles.reserve(mesh->num_faces());
+  for (std::uint32_t f = 0; f < mesh->num_faces(); ++f) {
+    const auto& face = mesh->face(draco::FaceIndex(f));
+    core::Triangle t{face[0].value(), face[1].value(), face[2].value()};
+    for (auto v : t) {
+      if (v >= out.num_points) return malformed("Draco face " + std::to_string(f) + " names a point out of range");
+    }
+    out.triangles.push_back(t);
+  }
+  for (int i = 0; i < mesh->num_attributes(); ++i) {
+    const draco::PointAttribute* a = mesh->attribute(i);
+    if (a == nullptr) continue;
+    if (a->num_components() < 1 || a->num_components() > 4) {
+      return malformed("Draco attribute " + std::to_string(a->unique_id()) + " has " +
+                       std::to_string(a->num_components()) + " components");
+    }
+    out.attributes.push_back(DracoAttributeInfo{a->unique_id(), semantic_name(a->attribute_type()),
+                                                a->num_components(), gltf_component_type(a->data_type()),
+                                                a->normalized()});
+  }
+  out.mesh = std::move(mesh);
+  return out;
+}
+
+ApiResult<AttributeArray> read_draco_attribute(const DracoMesh& mesh, std::uint32_t unique_id, int component_type,
+                                               int components, bool normalized, const std::string& name) {
+  const draco::PointAttribute* a = mesh.mesh ? mesh.mesh->GetAttributeByUniqueId(unique_id) : nullptr;
+  if (a == nullptr) return malformed("Draco data has no attribute with id " + std::to_string(unique_id) + " for " + name);
+  if (a->num_components() != components) {
+    return malformed("Draco attribute " + name + " has " + std::to_string(a->num_components()) +
+                     " components but its accessor declares " + std::to_string(components));
+  }
+  AttributeArray out;
+  out.name = name;
+  out.component_type = component_type;
+  out.components = components;
+  out.normalized = normalized;
+  out.count = mesh.num_points;
+  static constexpr const char* kTypes[] = {"", "SCALAR", "VEC2", "VEC3", "VEC4"};
+  out.type = kTypes[components];
+  bool ok = false;
+  switch (component_type) {
+    case 5120: ok = convert_all<std::int8_t>(*a, mesh.num_points, components, out.data); break;
+    case 5121: ok = convert_all<std::uint8_t>(*a, mesh.num_points, components, out.data); break;
+    case 5122: ok = convert_all<std::int16_t>(*a, mesh.num_points, components, out.data); break;
+    case 5123: ok = convert_all<std::uint16_t>(*a, mesh.num_points, components, out.data); break;
+    case 5125: ok = convert_all<std::uint32_t>(*a, mesh.num_points, components, out.data); break;
+    case 5126: ok = convert_all<float>(*a, mesh.num_points, components, out.data); break;
+    default: break;
+  }
+  if (!ok) return malformed("Draco attribute " + name + " cannot be read as componentType " + std::to_string(component_type));
+  return out;
+}
+
+ApiResult<EncodedDraco> encode_draco(std::span<const AttributeArray> attributes, std::span<const core::Triangle> triangles,
+                                     const DracoEncodeOptions& options) {
+  const std::size_t n = attributes.empty() ? 0 : attributes.front().count;
+  // Edgebreaker may split vertices it sees as non-manifold, which would change the point
+  // count the glTF accessors declare; verify by decoding and fall back to sequential.
+  for (bool sequential : {false, true}) {
+    auto encoded = encode_once(attributes, triangles, options, sequential);
+    if (!encoded.ok()) return make_api_error(ApiErrorCode::kInternal, encoded.error());
+    const auto& bytes = encoded->bytes;
+    ReadLimits limits;
+    limits.max_faces = triangles.size() + 1;
+    limits.max_vertices = n + 1;
+    auto check = decode_draco(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), limits);
+    if (check.ok() && check->num_points == n && check->triangles.size() == triangles.size()) {
+      return std::move(encoded).value();
+    }
+  }
+  return make_api_error(ApiErrorCode::kInternal, "Draco encoding did not preserve the vertex count");
+}
+
+}  // namespace seam::api

@@ -1,0 +1,74 @@
+// Draco mesh decoding and encoding for KHR_draco_mesh_compression and raw .drc input.
+// Every call checks draco's Status: a failed decode is an error, never silent success.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "api/error.h"
+#include "api/gltf_reader.h"
+#include "core/types.h"
+
+namespace draco {
+class Mesh;
+}
+
+namespace seam::api {
+
+/// One attribute of a decoded Draco mesh, described in glTF terms.
+struct DracoAttributeInfo {
+  std::uint32_t unique_id = 0;
+  std::string semantic;     ///< "POSITION", "NORMAL", "COLOR", "TEX_COORD" or "GENERIC"
+  int components = 0;       ///< 1..4 (others are refused at decode)
+  int component_type = 0;   ///< the glTF componentType of its data, 0 if glTF has none (int32, float64, ...)
+  bool normalized = false;
+};
+
+/// A decoded Draco mesh: points (= glTF vertices), triangles over points, attributes.
+struct DracoMesh {
+  std::size_t num_points = 0;
+  std::vector<core::Triangle> triangles;
+  std::vector<DracoAttributeInfo> attributes;
+  std::shared_ptr<const draco::Mesh> mesh;  ///< owns the decoded data
+};
+
+/// Decodes a Draco mesh. Errors: kMalformedAsset (draco's status message; not a mesh; a face
+/// index >= num_points), kMeshTooLarge (more than limits.max_faces faces or
+/// limits.max_vertices points), kEmptyMesh (no faces). O(bytes + points + faces).
+ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const ReadLimits& limits = {});
+
+/// Reads attribute `unique_id` converted to `component_type` with `components` values per
+/// point, one element per point in point order. Errors: kMalformedAsset (no such attribute,
+/// component count mismatch, conversion refused). O(points).
+ApiResult<AttributeArray> read_draco_attribute(const DracoMesh& mesh, std::uint32_t unique_id, int component_type,
+                                               int components, bool normalized, const std::string& name);
+
+struct DracoEncodeOptions {
+  /// Quantization bits for POSITION, TEX_COORD, NORMAL and other float attributes.
+  /// 0 = lossless (floats stored as they are): every output vertex keeps its exact input
+  /// value, which the contract asks for. 11..16 trades exactness for size.
+  int position_bits = 0;
+  int texcoord_bits = 0;
+  int normal_bits = 0;
+  int generic_bits = 0;
+  int speed = 5;  ///< draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
+};
+
+struct EncodedDraco {
+  std::string bytes;
+  std::vector<std::uint32_t> unique_ids;  ///< one per input attribute, same order
+  bool sequential = false;  ///< fell back to sequential encoding to keep the point count
+};
+
+/// Encodes triangles over `attributes` (all with the same count; POSITION first or anywhere).
+/// The result decodes to exactly attributes[0].count points and triangles.size() faces
+/// (verified by decoding; edgebreaker falls back to sequential encoding if it would not).
+/// Errors: kInternal (draco refused: a bug in our attribute description).
+/// O(points + faces), plus one verification decode.
+ApiResult<EncodedDraco> encode_draco(std::span<const AttributeArray> attributes, std::span<const core::Triangle> triangles,
+                                     const DracoEncodeOptions& options = {});
+
+}  // namespace seam::api
