@@ -1,0 +1,223 @@
+// Parsing the POST /seam parameters (API.md "Parameters") from JSON or the query string.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "api/pipeline.h"
+
+namespace seam::api {
+namespace {
+
+using nlohmann::json;
+
+ApiError invalid(const std::string& name, std::string message) {
+  return make_api_error(ApiErrorCode::kInvalidParameter, std::move(message), {{"parameter", name}});
+}
+
+ApiResult<std::uint32_t> vertex_index(const json& v, const std::string& name) {
+  if (v.is_number_unsigned() || (v.is_number_integer() && v.get<std::int64_t>() >= 0)) {
+    const auto u = v.get<std::uint64_t>();
+    if (u < std::numeric_limits<std::uint32_t>::max()) return static_cast<std::uint32_t>(u);
+  }
+  return invalid(name, name + ": vertex indices must be non-negative integers below 2^32-1, got " +
+                           v.dump(-1, ' ', false, json::error_handler_t::replace).substr(0, 60));
+}
+
+ApiResult<std::vector<std::uint32_t>> index_list(const json& v, const std::string& name) {
+  if (!v.is_array()) return invalid(name, name + " must be an array of vertex indices");
+  std::vector<std::uint32_t> out;
+  for (const auto& e : v) {
+    SEAM_TRY(const std::uint32_t i, vertex_index(e, name));
+    out.push_back(i);
+  }
+  return out;
+}
+
+ApiResult<std::array<double, 3>> position(const json& v) {
+  const auto it = v.find("position");
+  if (v.size() != 1 || it == v.end() || !it->is_array() || it->size() != 3) {
+    return invalid("extrema", "extrema: a position must be {\"position\": [x, y, z]}");
+  }
+  std::array<double, 3> p{};
+  for (int c = 0; c < 3; ++c) {
+    const auto& x = (*it)[static_cast<std::size_t>(c)];
+    if (!x.is_number() || !std::isfinite(x.get<double>())) {
+      return invalid("extrema", "extrema: position coordinates must be finite numbers");
+    }
+    p[static_cast<std::size_t>(c)] = x.get<double>();
+  }
+  return p;
+}
+
+ApiResult<ExtremaSpec> extrema_from_json(const json& v) {
+  ExtremaSpec spec;
+  if (v.is_string()) {
+    if (v.get<std::string>() != "auto") return invalid("extrema", "extrema must be \"auto\", an array or an object");
+    spec.automatic = true;
+    return spec;
+  }
+  if (v.is_array()) {
+    spec.automatic = false;
+    for (const auto& e : v) {
+      if (e.is_object()) {
+        SEAM_TRY(const auto p, position(e));
+        spec.positions.push_back(p);
+      } else {
+        SEAM_TRY(const std::uint32_t i, vertex_index(e, "extrema"));
+        spec.indices.push_back(i);
+      }
+    }
+    if (spec.indices.empty() && spec.positions.empty()) {
+      return invalid("extrema", "extrema: the array is empty; give vertex indices, positions or \"auto\"");
+    }
+    return spec;
+  }
+  if (v.is_object()) {
+    // Our addition: {"auto": true, "include": [...], "exclude": [...], "min_protrusion": 0.15, "max_count": 16}
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      const std::string& key = it.key();
+      if (key == "auto") {
+        if (!it->is_boolean()) return invalid("extrema.auto", "extrema.auto must be a boolean");
+        spec.automatic = it->get<bool>();
+      } else if (key == "include") {
+        if (!it->is_array()) return invalid("extrema.include", "extrema.include must be an array");
+        for (const auto& e : *it) {
+          if (e.is_object()) {
+            SEAM_TRY(const auto p, position(e));
+            spec.positions.push_back(p);
+          } else {
+            SEAM_TRY(const std::uint32_t i, vertex_index(e, "extrema.include"));
+            spec.indices.push_back(i);
+          }
+        }
+      } else if (key == "exclude") {
+        SEAM_TRY(spec.exclude, index_list(*it, "extrema.exclude"));
+      } else if (key == "min_protrusion") {
+        if (!it->is_number() || !std::isfinite(it->get<double>()) || it->get<double>() < 0) {
+          return invalid("extrema.min_protrusion", "extrema.min_protrusion must be a number >= 0");
+        }
+        spec.auto_options.min_protrusion = it->get<double>();
+      } else if (key == "max_count") {
+        SEAM_TRY(const std::uint32_t n, vertex_index(*it, "extrema.max_count"));
+        spec.auto_options.max_count = n;
+      } else {
+        return invalid("extrema." + key, "extrema: unknown key \"" + key +
+                                             "\" (known: auto, include, exclude, min_protrusion, max_count)");
+      }
+    }
+    if (!spec.automatic && spec.indices.empty() && spec.positions.empty()) {
+      return invalid("extrema", "extrema: with auto false, give include");
+    }
+    return spec;
+  }
+  return invalid("extrema", "extrema must be \"auto\", an array of vertex indices or positions, or an object");
+}
+
+ApiResult<std::uint32_t> small_index(const json& v, const std::string& name) {
+  if (v.is_number_unsigned() && v.get<std::uint64_t>() < (1u << 31)) return static_cast<std::uint32_t>(v.get<std::uint64_t>());
+  return invalid(name, name + " must be a non-negative integer");
+}
+
+}  // namespace
+
+ApiResult<SeamParams> params_from_json(const json& params) {
+  if (!params.is_object()) return invalid("params", "the parameters must be a JSON object");
+  SeamParams out;
+  for (auto it = params.begin(); it != params.end(); ++it) {
+    const std::string& key = it.key();
+    const json& v = *it;
+    if (key == "extrema") {
+      SEAM_TRY(out.extrema, extrema_from_json(v));
+    } else if (key == "mesh") {
+      // In the JSON request form "mesh" is the asset object, which the server removes; an
+      // integer is the mesh index.
+      if (v.is_object()) continue;
+      SEAM_TRY(out.mesh, small_index(v, "mesh"));
+    } else if (key == "primitive") {
+      SEAM_TRY(out.primitive, small_index(v, "primitive"));
+    } else if (key == "method") {
+      const std::string m = v.is_string() ? v.get<std::string>() : "";
+      if (m == "skeleton") out.method = core::SeamMethod::kSkeleton;
+      else if (m == "mst") out.method = core::SeamMethod::kMst;
+      else if (m == "greedy") out.method = core::SeamMethod::kGreedy;
+      else if (m == "optimal") out.method = core::SeamMethod::kOptimal;
+      else return invalid("method", "method must be one of skeleton, mst, greedy, optimal");
+    } else if (key == "uv") {
+      const std::string m = v.is_string() ? v.get<std::string>() : "";
+      if (m == "bff") out.uv = core::UvMethod::kBff;
+      else if (m == "lscm") out.uv = core::UvMethod::kLscm;
+      else if (m == "arap") out.uv = core::UvMethod::kArap;
+      else if (m == "none") out.uv = std::nullopt;
+      else return invalid("uv", "uv must be one of bff, lscm, arap, none");
+    } else if (key == "output") {
+      const std::string m = v.is_string() ? v.get<std::string>() : "";
+      if (m == "json") out.output = OutputFormat::kJson;
+      else if (m == "glb") out.output = OutputFormat::kGlb;
+      else return invalid("output", "output must be \"json\" or \"glb\"");
+    } else if (key == "draco") {
+      if (!v.is_boolean()) return invalid("draco", "draco must be true or false");
+      out.draco = v.get<bool>();
+    } else if (key == "weld_epsilon") {
+      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0) {
+        return invalid("weld_epsilon", "weld_epsilon must be a finite number >= 0");
+      }
+      out.weld_epsilon = v.get<double>();
+    } else {
+      return invalid(key, "unknown parameter \"" + key.substr(0, 60) +
+                              "\" (known: extrema, mesh, primitive, method, uv, output, draco, weld_epsilon)");
+    }
+  }
+  return out;
+}
+
+ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string, std::string>>& query) {
+  // Each value is turned into the JSON it stands for, then the JSON rules apply, so both
+  // forms accept and refuse exactly the same things.
+  json params = json::object();
+  for (const auto& [key, value] : query) {
+    if (params.contains(key)) return invalid(key, "parameter \"" + key.substr(0, 60) + "\" is given twice");
+    if (key == "extrema") {
+      if (value == "auto") {
+        params[key] = "auto";
+        continue;
+      }
+      json list = json::array();
+      std::size_t start = 0;
+      while (start <= value.size()) {
+        const auto comma = value.find(',', start);
+        const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (item.empty() || item.find_first_not_of("0123456789") != std::string::npos || item.size() > 10) {
+          return invalid("extrema", "extrema must be \"auto\" or comma-separated vertex indices, e.g. 12,345,678");
+        }
+        list.push_back(std::stoull(item));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+      }
+      params[key] = std::move(list);
+    } else if (key == "mesh" || key == "primitive") {
+      if (value.empty() || value.size() > 10 || value.find_first_not_of("0123456789") != std::string::npos) {
+        return invalid(key, key + " must be a non-negative integer");
+      }
+      params[key] = std::stoull(value);
+    } else if (key == "draco") {
+      if (value == "true" || value == "1") params[key] = true;
+      else if (value == "false" || value == "0") params[key] = false;
+      else return invalid("draco", "draco must be true or false");
+    } else if (key == "weld_epsilon") {
+      std::size_t used = 0;
+      double d = 0;
+      try {
+        d = std::stod(value, &used);
+      } catch (...) {
+        used = 0;
+      }
+      if (used == 0 || used != value.size()) return invalid("weld_epsilon", "weld_epsilon must be a number");
+      params[key] = d;
+    } else {
+      params[key] = value;  // strings; unknown keys are refused by params_from_json
+    }
+  }
+  return params_from_json(params);
+}
+
+}  // namespace seam::api

@@ -1,0 +1,319 @@
+// One seam job: parse -> weld -> build -> extrema -> seam -> cut -> flatten -> write.
+#include "api/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <new>
+#include <unordered_map>
+
+#include "api/gltf_reader.h"
+#include "api/gltf_writer.h"
+#include "core/cut.h"
+#include "core/halfedge_mesh.h"
+#include "core/topology.h"
+#include "core/weld.h"
+
+namespace seam::api {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+std::string_view method_name(core::SeamMethod m) {
+  switch (m) {
+    case core::SeamMethod::kSkeleton: return "skeleton";
+    case core::SeamMethod::kMst: return "mst";
+    case core::SeamMethod::kGreedy: return "greedy";
+    case core::SeamMethod::kOptimal: return "optimal";
+  }
+  return "skeleton";
+}
+
+std::string_view uv_name(core::UvMethod m) {
+  switch (m) {
+    case core::UvMethod::kLscm: return "lscm";
+    case core::UvMethod::kBff: return "bff";
+    case core::UvMethod::kArap: return "arap";
+  }
+  return "bff";
+}
+
+ApiError timeout(const char* stage) {
+  return make_api_error(ApiErrorCode::kTimeout, std::string("the computation exceeded the time budget during ") + stage);
+}
+
+// Core errors name welded vertices; the contract speaks in input indices.
+ApiError map_core_error(const core::Error& error, const core::WeldResult& weld, bool vertex_elements) {
+  ApiError out = from_core(error);
+  if (vertex_elements && out.details.contains("elements")) {
+    json mapped = json::array();
+    for (const auto& e : out.details["elements"]) {
+      const auto w = e.get<std::uint32_t>();
+      mapped.push_back(w < weld.welded_to_input.size() ? weld.welded_to_input[w] : w);
+    }
+    out.details["vertices"] = std::move(mapped);
+    out.details.erase("elements");
+  }
+  return out;
+}
+
+bool elements_are_vertices(core::ErrorCode code) {
+  return code == core::ErrorCode::kNonManifoldEdge || code == core::ErrorCode::kNonManifoldVertex ||
+         code == core::ErrorCode::kInconsistentOrientation || code == core::ErrorCode::kNonFinitePosition;
+}
+
+ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, const PrimitiveData& data,
+                                                       const core::WeldResult& weld, const core::HalfedgeMesh& mesh,
+                                                       const core::CancelToken& cancel) {
+  const std::size_t n = data.mesh.positions.size();
+  auto check = [&](std::uint32_t i, const char* what) -> core::Status {
+    if (i >= n) {
+      return core::make_error(core::ErrorCode::kIndexOutOfRange,
+                              std::string(what) + " vertex " + std::to_string(i) + " is out of range: the primitive has " +
+                                  std::to_string(n) + " vertices",
+                              {i});
+    }
+    return core::Ok{};
+  };
+  auto out_of_range = [&](const core::Error& e) {
+    return make_api_error(ApiErrorCode::kExtremumOutOfRange, e.message, {{"index", e.elements.front()}, {"vertices", n}});
+  };
+  std::vector<core::VertexId> result;
+  auto add = [&](core::VertexId v) {
+    if (std::find(result.begin(), result.end(), v) == result.end()) result.push_back(v);
+  };
+  if (spec.automatic) {
+    auto found = core::find_extrema(mesh, spec.auto_options, cancel);
+    if (!found.ok()) return from_core(found.error());
+    std::vector<core::VertexId> excluded;
+    for (auto i : spec.exclude) {
+      if (auto s = check(i, "excluded"); !s.ok()) return out_of_range(s.error());
+      excluded.push_back(core::VertexId(weld.input_to_welded[i]));
+    }
+    for (auto v : *found) {
+      if (std::find(excluded.begin(), excluded.end(), v) == excluded.end()) add(v);
+    }
+  }
+  for (auto i : spec.indices) {
+    if (auto s = check(i, "extremum"); !s.ok()) return out_of_range(s.error());
+    add(core::VertexId(weld.input_to_welded[i]));
+  }
+  if (!spec.positions.empty()) {
+    // Snap to the nearest vertex that lies on the surface (isolated vertices cannot be terminals).
+    for (const auto& p : spec.positions) {
+      const core::Vec3 q(p[0], p[1], p[2]);
+      double best = std::numeric_limits<double>::infinity();
+      core::VertexId best_v;
+      for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+        if (mesh.is_isolated(core::VertexId(v))) continue;
+        const double d = (mesh.position(core::VertexId(v)) - q).squaredNorm();
+        if (d < best) {
+          best = d;
+          best_v = core::VertexId(v);
+        }
+      }
+      if (best_v.valid()) add(best_v);
+    }
+  }
+  return result;
+}
+
+}  // namespace
+
+ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, AssetKind kind, const SeamParams& params,
+                                            const PipelineLimits& limits, const core::CancelToken& cancel) {
+  try {
+    const auto t_start = Clock::now();
+    json timings = json::object();
+    auto t = Clock::now();
+    ReadLimits read_limits;
+    read_limits.max_faces = limits.max_faces;
+    SEAM_TRY(const GltfDocument doc, parse_asset(asset_bytes, kind, read_limits));
+    SEAM_TRY(const PrimitiveData data, read_primitive(doc, params.mesh, params.primitive, read_limits));
+    timings["parse"] = ms_since(t);
+    if (cancel.is_cancelled()) return timeout("parsing");
+
+    t = Clock::now();
+    auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
+    if (!weld.ok()) return from_core(weld.error());
+    const auto triangles = core::remap_triangles(data.mesh.triangles, weld->input_to_welded);
+    auto built = core::build_halfedge_mesh(weld->positions, triangles);
+    if (!built.ok()) return map_core_error(built.error(), *weld, elements_are_vertices(built.error().code));
+    const core::HalfedgeMesh& mesh = *built;
+    const core::Topology topology = core::compute_topology(mesh);
+    timings["weld"] = ms_since(t);
+    if (cancel.is_cancelled()) return timeout("welding");
+
+    t = Clock::now();
+    SEAM_TRY(const std::vector<core::VertexId> extrema, resolve_extrema(params.extrema, data, *weld, mesh, cancel));
+    timings["extrema"] = ms_since(t);
+
+    t = Clock::now();
+    core::SeamOptions seam_options;
+    seam_options.method = params.method;
+    auto seam = core::compute_seam(mesh, extrema, seam_options, cancel);
+    if (!seam.ok()) return map_core_error(seam.error(), *weld, false);
+    timings["seam"] = ms_since(t);
+
+    t = Clock::now();
+    std::vector<core::EdgeId> cut_edges = seam->seam_edges;
+    cut_edges.insert(cut_edges.end(), seam->cut_graph_edges.begin(), seam->cut_graph_edges.end());
+    std::sort(cut_edges.begin(), cut_edges.end());
+    cut_edges.erase(std::unique(cut_edges.begin(), cut_edges.end()), cut_edges.end());
+    auto cut = core::cut_along_edges(mesh, cut_edges);
+    if (!cut.ok()) return from_core(cut.error());
+    const core::Topology cut_topology = core::compute_topology(cut->mesh);
+    timings["cut"] = ms_since(t);
+    if (cancel.is_cancelled()) return timeout("cutting");
+
+    t = Clock::now();
+    std::optional<core::UvResult> uv;
+    if (params.uv) {
+      core::UvOptions uv_options;
+      uv_options.method = *params.uv;
+      auto flattened = core::parameterize(cut->mesh, uv_options, cancel);
+      if (!flattened.ok()) return from_core(flattened.error());
+      uv = std::move(flattened).value();
+    }
+    timings["uv"] = ms_since(t);
+
+    // Output vertices: one per (input vertex, cut vertex) pair. Faces keep their ids, so cut
+    // face f is input triangle f; match corners by vertex rather than trusting the rotation.
+    t = Clock::now();
+    CutPrimitive out_prim;
+    out_prim.triangles.resize(data.mesh.triangles.size());
+    std::unordered_map<std::uint64_t, std::uint32_t> output_index;
+    output_index.reserve(data.mesh.positions.size() * 5 / 4);
+    std::vector<std::uint32_t> output_cut_vertex;
+    for (std::size_t f = 0; f < data.mesh.triangles.size(); ++f) {
+      const auto corners = cut->mesh.face_vertices(core::FaceId(f));
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t input = data.mesh.triangles[f][static_cast<std::size_t>(k)];
+        const std::uint32_t welded = weld->input_to_welded[input];
+        core::VertexId cv;
+        for (auto c : corners) {
+          if (cut->to_original[c].value() == welded) cv = c;
+        }
+        if (!cv.valid()) {
+          return make_api_error(ApiErrorCode::kInternal, "cut face " + std::to_string(f) + " does not match its input triangle");
+        }
+        const std::uint64_t key = (static_cast<std::uint64_t>(input) << 32) | cv.value();
+        auto [it, inserted] = output_index.try_emplace(key, static_cast<std::uint32_t>(out_prim.source_vertex.size()));
+        if (inserted) {
+          out_prim.source_vertex.push_back(input);
+          output_cut_vertex.push_back(cv.value());
+        }
+        out_prim.triangles[f][static_cast<std::size_t>(k)] = it->second;
+      }
+    }
+    if (uv) {
+      out_prim.uv.reserve(out_prim.source_vertex.size());
+      // glTF puts the texture origin top-left with v growing down; flip v so that a
+      // counter-clockwise triangle stays counter-clockwise in texture space.
+      for (auto c : output_cut_vertex) {
+        const core::Vec2& p = uv->uv[core::VertexId(c)];
+        out_prim.uv.push_back({static_cast<float>(p.x()), static_cast<float>(1.0 - p.y())});
+      }
+    }
+
+    // The seam in input indices.
+    auto input_of = [&](core::VertexId v) { return weld->welded_to_input[v.index()]; };
+    auto edge_pairs = [&](const std::vector<core::EdgeId>& edges) {
+      json out = json::array();
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+      for (auto e : edges) {
+        const auto h = core::HalfedgeMesh::halfedge(e);
+        auto a = input_of(mesh.tail(h)), b = input_of(mesh.head(h));
+        pairs.emplace_back(std::min(a, b), std::max(a, b));
+      }
+      std::sort(pairs.begin(), pairs.end());
+      for (const auto& [a, b] : pairs) out.push_back({a, b});
+      return out;
+    };
+    auto vertex_list = [&](const std::vector<core::VertexId>& vs) {
+      json out = json::array();
+      for (auto v : vs) out.push_back(input_of(v));
+      return out;
+    };
+    json polylines = json::array();
+    for (const auto& branch : seam->branches) {
+      json line = json::array();
+      for (auto v : branch) {
+        const auto& p = mesh.position(v);
+        line.push_back({p.x(), p.y(), p.z()});
+      }
+      polylines.push_back(std::move(line));
+    }
+    json seam_json = {{"method", method_name(params.method)},
+                      {"edges", edge_pairs(cut_edges)},
+                      {"length", seam->length},
+                      {"extrema", vertex_list(seam->extrema)},
+                      {"terminals", vertex_list(seam->terminals)},
+                      {"steiner_points", vertex_list(seam->steiner_points)},
+                      {"cut_graph_edges", edge_pairs(seam->cut_graph_edges)},
+                      {"cut_graph_length", seam->cut_graph_length},
+                      {"polylines", std::move(polylines)}};
+    std::size_t boundary_loops = topology.boundary_loops.size();
+    json mesh_json = {{"vertices", data.mesh.positions.size()},
+                      {"faces", data.mesh.triangles.size()},
+                      {"welded_vertices", mesh.num_vertices()},
+                      {"components", topology.components.size()},
+                      {"genus", topology.total_genus()},
+                      {"boundary_loops", boundary_loops}};
+    json cut_json = {{"vertices", cut->mesh.num_vertices()},
+                     {"faces", cut->mesh.num_faces()},
+                     {"euler_characteristic", cut_topology.euler_characteristic()},
+                     {"boundary_loops", cut_topology.boundary_loops.size()},
+                     {"asset_vertices", out_prim.source_vertex.size()}};
+    json uv_json = nullptr;
+    if (uv) {
+      const auto& d = uv->distortion;
+      uv_json = {{"method", uv_name(*params.uv)},
+                 {"area_distortion", d.area},
+                 {"angle_distortion", d.angle},
+                 {"stretch_l2", d.stretch_l2},
+                 {"stretch_linf", d.stretch_linf},
+                 {"flipped", d.flipped}};
+    }
+    out_prim.seam_extras = {{"method", seam_json["method"]},   {"length", seam->length},
+                            {"edges", seam_json["edges"]},     {"extrema", seam_json["extrema"]},
+                            {"terminals", seam_json["terminals"]}, {"steiner_points", seam_json["steiner_points"]},
+                            {"cut_graph_edges", seam_json["cut_graph_edges"]}};
+
+    if (uv) {
+      // The writer takes the smallest free TEXCOORD_n; say which in the summary too.
+      int channel = 0;
+      auto used = [&](int c) {
+        return std::any_of(data.attributes.begin(), data.attributes.end(),
+                           [&](const AttributeArray& a) { return a.name == "TEXCOORD_" + std::to_string(c); });
+      };
+      while (used(channel)) ++channel;
+      out_prim.seam_extras["uv_channel"] = channel;
+      out_prim.seam_extras["uv_method"] = uv_name(*params.uv);
+    }
+    WriteOptions write_options;
+    write_options.draco = params.draco.value_or(data.draco);
+    SEAM_TRY(WrittenAsset written,
+             write_cut_asset(doc, params.mesh, params.primitive, data, out_prim, write_options));
+    if (uv) uv_json["channel"] = written.uv_channel;
+    timings["encode"] = ms_since(t);
+    timings["total"] = ms_since(t_start);
+
+    PipelineOutput output;
+    output.body = {{"seam", std::move(seam_json)}, {"mesh", std::move(mesh_json)}, {"cut", std::move(cut_json)},
+                   {"uv", std::move(uv_json)},     {"timings_ms", timings},         {"draco", write_options.draco}};
+    if (params.output == OutputFormat::kJson) output.body["asset"] = {{"glb_base64", encode_base64(written.glb)}};
+    output.glb = std::move(written.glb);
+    output.total_ms = ms_since(t_start);
+    return output;
+  } catch (const std::bad_alloc&) {
+    return make_api_error(ApiErrorCode::kInternal, "out of memory while processing the asset");
+  } catch (const std::exception& e) {
+    return make_api_error(ApiErrorCode::kInternal, std::string("unexpected failure: ") + e.what());
+  }
+}
+
+}  // namespace seam::api
