@@ -68,16 +68,17 @@ void PathSearch::add_source(VertexId v, double offset) {
   }
 }
 
-Status PathSearch::run(std::span<const VertexId> targets, double max_distance, const CancelToken& cancel) {
+Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
+                            const CancelToken& cancel) {
   std::size_t targets_left = 0;
   for (VertexId t : targets) {
     if (!is_target_[t.index()]) ++targets_left;
     is_target_[t.index()] = 1;
   }
+  if (nearest_only && targets_left > 1) targets_left = 1;
   auto clear_targets = [&] {
     for (VertexId t : targets) is_target_[t.index()] = 0;
   };
-  // Targets settled before the run (a source that is a target) count at once.
   std::uint32_t polls = 0;
   const auto& g = *graph_;
   while (!heap_.empty()) {

@@ -41,7 +41,13 @@ class PathSearch {
   /// Runs until every target is settled (empty: until exhausted) or the next vertex is
   /// farther than max_distance. Errors: kCancelled. O(touched log touched).
   Status run(std::span<const VertexId> targets = {}, double max_distance = kUnreached,
-             const CancelToken& cancel = CancelToken::none());
+             const CancelToken& cancel = CancelToken::none()) {
+    return run_impl(targets, max_distance, false, cancel);
+  }
+  /// Runs until the first of `targets` is settled (the nearest one). Errors: kCancelled.
+  Status run_to_nearest(std::span<const VertexId> targets, const CancelToken& cancel = CancelToken::none()) {
+    return run_impl(targets, kUnreached, true, cancel);
+  }
 
   /// Settled distance of v from the sources, kUnreached if not settled by the last run.
   double distance(VertexId v) const {
@@ -63,6 +69,8 @@ class PathSearch {
   static constexpr std::uint8_t kForbidden = 2;
 
   void touch(std::uint32_t v);
+  Status run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
+                  const CancelToken& cancel);
 
   const EdgeGraph* graph_;
   std::vector<double> dist_;

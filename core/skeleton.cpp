@@ -3,6 +3,7 @@
 #include <chrono>
 #include <string>
 
+#include "core/skeleton_trace.h"
 #include "core/straighten.h"
 
 namespace seam::core {
@@ -46,24 +47,82 @@ Status validate_inputs(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::sp
 
 }  // namespace
 
+Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                            std::span<const double> edge_weights, const TerminalPaths& paths,
+                                            const SkeletonOptions& options, SkeletonTrace* trace,
+                                            const CancelToken& cancel) {
+  if (auto st = validate_inputs(mesh, graph, edge_weights, paths); !st.ok()) return st.take_error();
+  SkeletonTrace local;
+  SkeletonTrace& tr = trace ? *trace : local;
+  tr = SkeletonTrace{};
+  SkeletonResult result;
+  const auto& terminals = paths.terminals;
+
+  if (paths.size() == 2) {
+    // §4.1: with two terminals the seam is their shortest path.
+    std::vector<EdgeId> edges;
+    for (HalfedgeId h : paths.path_between(0, 1)) edges.push_back(HalfedgeMesh::edge(h));
+    result.tree = make_steiner_tree(mesh, edges, terminals, edge_weights);
+    result.stats.length_before_refine = result.tree.length;
+    tr.straightened_length = result.tree.length;
+    return result;
+  }
+
+  // The paper's three steps. Any failure other than cancellation (a degenerate mesh where
+  // the tour or its skeleton cannot be made a full component) falls back to the star tree.
+  auto paper = [&]() -> Result<TreeTopology> {
+    auto start = std::chrono::steady_clock::now();
+    SEAM_TRY(tr.tour, build_tour(mesh, paths, &tr.tour_stats, cancel));
+    result.stats.tour_ms = ms_since(start);
+    result.stats.removals = tr.tour_stats.removals;
+    result.stats.rejected_removals = tr.tour_stats.rejected_removals;
+
+    start = std::chrono::steady_clock::now();
+    SEAM_TRY(auto shrunk, shrink_tour(mesh, tr.tour, cancel));
+    tr.raw_skeleton = std::move(shrunk.skeleton);
+    result.stats.shrink_ms = ms_since(start);
+
+    start = std::chrono::steady_clock::now();
+    SEAM_TRY(auto topo, skeleton_topology(mesh, graph, tr.raw_skeleton, terminals, edge_weights, cancel));
+    SEAM_TRY(auto straight, straighten_topology(mesh, graph, edge_weights, topo, &tr.straighten_stats, cancel));
+    result.stats.straighten_ms = ms_since(start);
+    if (auto st = check_full_component_tree(mesh, topology_edges(straight), terminals); !st.ok()) {
+      return st.take_error();
+    }
+    return straight;
+  };
+  auto straight = paper();
+  if (!straight.ok()) {
+    if (straight.error().code == ErrorCode::kCancelled) return straight.take_error();
+    tr.fallback = true;
+    tr.fallback_reason = straight.error().message;
+    const auto start = std::chrono::steady_clock::now();
+    SEAM_TRY(auto edges, star_tree(mesh, graph, terminals, cancel));
+    result.stats.straighten_ms += ms_since(start);
+    result.tree = make_steiner_tree(mesh, edges, terminals, edge_weights);
+    result.stats.length_before_refine = result.tree.length;
+    tr.straightened_length = result.tree.length;
+    return result;
+  }
+  tr.straightened = *straight;
+  tr.straightened_length = topology_length(mesh, edge_weights, tr.straightened);
+  result.stats.length_before_refine = tr.straightened_length;
+
+  TreeTopology final_tree = std::move(straight).value();
+  if (options.refine) {
+    const auto start = std::chrono::steady_clock::now();
+    SEAM_TRY(final_tree, relocate_steiner_points(mesh, graph, edge_weights, final_tree, 4, cancel));
+    result.stats.refine_ms = ms_since(start);
+    tr.refined_length = topology_length(mesh, edge_weights, final_tree);
+  }
+  result.tree = make_steiner_tree(mesh, topology_edges(final_tree), terminals, edge_weights);
+  return result;
+}
+
 Result<SkeletonResult> skeleton_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                      std::span<const double> edge_weights, const TerminalPaths& paths,
                                      const SkeletonOptions& options, const CancelToken& cancel) {
-  if (auto st = validate_inputs(mesh, graph, edge_weights, paths); !st.ok()) return st.take_error();
-  (void)options;
-  SkeletonResult result;
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<EdgeId> edges;
-  if (paths.size() == 2) {
-    // §4.1: with two terminals the seam is their shortest path.
-    for (HalfedgeId h : paths.path_between(0, 1)) edges.push_back(HalfedgeMesh::edge(h));
-  } else {
-    SEAM_TRY(edges, star_tree(mesh, graph, paths.terminals, cancel));
-  }
-  result.stats.straighten_ms = ms_since(start);
-  result.tree = make_steiner_tree(mesh, edges, paths.terminals, edge_weights);
-  result.stats.length_before_refine = result.tree.length;
-  return result;
+  return skeleton_seam_traced(mesh, graph, edge_weights, paths, options, nullptr, cancel);
 }
 
 }  // namespace seam::core

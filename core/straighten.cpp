@@ -3,82 +3,15 @@
 #include <algorithm>
 #include <numeric>
 #include <string>
+#include <utility>
 
 #include "core/path_search.h"
+#include "core/tree_util.h"
 
 namespace seam::core {
 
-namespace {
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  bool unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-};
-
-// Removes non-terminal leaves until none is left. `edges` must form a forest.
-std::vector<EdgeId> prune_dangling(const HalfedgeMesh& mesh, std::vector<EdgeId> edges,
-                                   std::span<const VertexId> terminals) {
-  std::vector<std::uint32_t> degree(mesh.num_vertices(), 0);
-  std::vector<std::uint8_t> is_terminal(mesh.num_vertices(), 0);
-  for (VertexId t : terminals) is_terminal[t.index()] = 1;
-  for (EdgeId e : edges) {
-    ++degree[mesh.tail(HalfedgeMesh::halfedge(e)).index()];
-    ++degree[mesh.head(HalfedgeMesh::halfedge(e)).index()];
-  }
-  // Each pass removes the current dangling edges; a long dangling chain needs one pass per
-  // edge, so iterate with a worklist of vertices instead.
-  std::vector<std::uint8_t> removed_edge(edges.size(), 0);
-  bool any = false;
-  for (std::size_t v = 0; v < degree.size() && !any; ++v) any = degree[v] == 1 && !is_terminal[v];
-  if (!any) return edges;
-  std::vector<std::uint32_t> first(mesh.num_vertices(), UINT32_MAX);
-  std::vector<std::uint32_t> next_slot(2 * edges.size(), UINT32_MAX);
-  for (std::uint32_t i = 0; i < edges.size(); ++i) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(edges[i]);
-    for (std::uint32_t side = 0; side < 2; ++side) {
-      const std::uint32_t v = side == 0 ? mesh.tail(h).value() : mesh.head(h).value();
-      next_slot[2 * i + side] = first[v];
-      first[v] = 2 * i + side;
-    }
-  }
-  std::vector<std::uint32_t> work;
-  for (std::uint32_t v = 0; v < degree.size(); ++v) {
-    if (degree[v] == 1 && !is_terminal[v]) work.push_back(v);
-  }
-  while (!work.empty()) {
-    const std::uint32_t v = work.back();
-    work.pop_back();
-    if (degree[v] != 1) continue;
-    for (std::uint32_t s = first[v]; s != UINT32_MAX; s = next_slot[s]) {
-      const std::uint32_t i = s / 2;
-      if (removed_edge[i]) continue;
-      removed_edge[i] = 1;
-      const HalfedgeId h = HalfedgeMesh::halfedge(edges[i]);
-      const std::uint32_t w = mesh.tail(h).value() == v ? mesh.head(h).value() : mesh.tail(h).value();
-      --degree[v];
-      if (--degree[w] == 1 && !is_terminal[w]) work.push_back(w);
-      break;
-    }
-  }
-  std::vector<EdgeId> kept;
-  for (std::size_t i = 0; i < edges.size(); ++i) {
-    if (!removed_edge[i]) kept.push_back(edges[i]);
-  }
-  return kept;
-}
-
-}  // namespace
+using detail::prune_dangling;
+using detail::UnionFind;
 
 Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeId> edges,
                                  std::span<const VertexId> terminals) {
@@ -174,6 +107,415 @@ Result<std::vector<EdgeId>> star_tree(const HalfedgeMesh& mesh, const EdgeGraph&
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   return prune_dangling(mesh, std::move(edges), terminals);
+}
+
+namespace {
+
+double edge_weight(const HalfedgeMesh& mesh, std::span<const double> edge_weights, HalfedgeId h) {
+  const EdgeId e = HalfedgeMesh::edge(h);
+  return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
+}
+
+std::vector<HalfedgeId> reversed(const std::vector<HalfedgeId>& path) {
+  std::vector<HalfedgeId> r(path.rbegin(), path.rend());
+  for (auto& h : r) h = HalfedgeMesh::twin(h);
+  return r;
+}
+
+// Cuts out the loops of a walk (a vertex visited twice), leaving a simple path with the
+// same ends.
+std::vector<HalfedgeId> without_loops(const HalfedgeMesh& mesh, const std::vector<HalfedgeId>& walk) {
+  std::vector<HalfedgeId> out;
+  std::vector<VertexId> vertices;
+  if (walk.empty()) return out;
+  vertices.push_back(mesh.tail(walk[0]));
+  for (HalfedgeId h : walk) {
+    const VertexId w = mesh.head(h);
+    const auto it = std::find(vertices.begin(), vertices.end(), w);
+    if (it != vertices.end()) {
+      const auto keep = static_cast<std::size_t>(it - vertices.begin());
+      vertices.resize(keep + 1);
+      out.resize(keep);
+    } else {
+      out.push_back(h);
+      vertices.push_back(w);
+    }
+  }
+  return out;
+}
+
+double course_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
+                     const std::vector<HalfedgeId>& path) {
+  double total = 0.0;
+  for (HalfedgeId h : path) total += edge_weight(mesh, edge_weights, h);
+  return total;
+}
+
+}  // namespace
+
+double topology_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
+                       const TreeTopology& topology) {
+  double total = 0.0;
+  for (EdgeId e : topology_edges(topology)) {
+    total += edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
+  }
+  return total;
+}
+
+Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                       std::span<const EdgeId> skeleton_edges,
+                                       std::span<const VertexId> terminals,
+                                       std::span<const double> edge_weights, const CancelToken& cancel) {
+  const std::size_t nv = mesh.num_vertices();
+  const std::size_t k = terminals.size();
+  std::vector<std::int32_t> terminal_of(nv, -1);
+  for (std::size_t i = 0; i < k; ++i) terminal_of[terminals[i].index()] = static_cast<std::int32_t>(i);
+
+  // A spanning forest of the skeleton, lightest edges first (a cycle loses its heaviest edge).
+  std::vector<EdgeId> sorted(skeleton_edges.begin(), skeleton_edges.end());
+  std::sort(sorted.begin(), sorted.end(), [&](EdgeId a, EdgeId b) {
+    const double wa = edge_weight(mesh, edge_weights, HalfedgeMesh::halfedge(a));
+    const double wb = edge_weight(mesh, edge_weights, HalfedgeMesh::halfedge(b));
+    return wa != wb ? wa < wb : a < b;
+  });
+  UnionFind uf(nv);
+  std::vector<EdgeId> forest;
+  for (EdgeId e : sorted) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(e);
+    if (uf.unite(mesh.tail(h).value(), mesh.head(h).value())) forest.push_back(e);
+  }
+  // Keep the pieces that touch a terminal, then join them (and terminals the skeleton
+  // missed) to the piece of terminal 0 by terminal-avoiding shortest paths.
+  std::vector<std::uint8_t> root_has_terminal(nv, 0);
+  for (VertexId t : terminals) root_has_terminal[uf.find(t.value())] = 1;
+  std::vector<EdgeId> kept;
+  for (EdgeId e : forest) {
+    if (root_has_terminal[uf.find(mesh.tail(HalfedgeMesh::halfedge(e)).value())]) kept.push_back(e);
+  }
+  PathSearch search(graph);
+  for (VertexId t : terminals) search.block(t);
+  for (int guard = 0; guard < static_cast<int>(k); ++guard) {
+    const std::uint32_t main_root = uf.find(terminals[0].value());
+    std::vector<VertexId> sources;
+    std::vector<VertexId> targets;
+    std::vector<std::uint8_t> seen(nv, 0);
+    auto consider = [&](VertexId v) {
+      if (seen[v.index()]) return;
+      seen[v.index()] = 1;
+      if (uf.find(v.value()) == main_root) {
+        // A terminal must stay a leaf, so a joining path may start at one only if it is
+        // alone in its piece (then it is the piece).
+        if (terminal_of[v.index()] < 0 || kept.empty()) sources.push_back(v);
+      } else {
+        targets.push_back(v);
+      }
+    };
+    for (EdgeId e : kept) {
+      consider(mesh.tail(HalfedgeMesh::halfedge(e)));
+      consider(mesh.head(HalfedgeMesh::halfedge(e)));
+    }
+    for (VertexId t : terminals) consider(t);
+    if (targets.empty()) break;
+    if (sources.empty()) sources.push_back(terminals[0]);
+    search.reset();
+    for (VertexId v : sources) search.add_source(v);
+    if (auto st = search.run_to_nearest(targets, cancel); !st.ok()) return st.take_error();
+    VertexId hit;
+    for (VertexId v : targets) {
+      if (search.reached(v) && (!hit.valid() || search.distance(v) < search.distance(hit))) hit = v;
+    }
+    if (!hit.valid()) {
+      return make_error(ErrorCode::kTopologyViolation, "the skeleton cannot be joined to every terminal");
+    }
+    for (HalfedgeId h : search.path_to(mesh, hit)) {
+      if (uf.unite(mesh.tail(h).value(), mesh.head(h).value())) kept.push_back(HalfedgeMesh::edge(h));
+    }
+  }
+  kept = prune_dangling(mesh, std::move(kept), terminals);
+
+  // Nodes: terminals first, then vertices of degree >= 3; branches are walked between them.
+  std::vector<std::vector<HalfedgeId>> out(nv);
+  for (EdgeId e : kept) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(e);
+    out[mesh.tail(h).index()].push_back(h);
+    out[mesh.head(h).index()].push_back(HalfedgeMesh::twin(h));
+  }
+  TreeTopology topo;
+  topo.num_terminals = k;
+  std::vector<std::int32_t> node_of(nv, -1);
+  for (std::size_t i = 0; i < k; ++i) {
+    topo.nodes.push_back(terminals[i]);
+    node_of[terminals[i].index()] = static_cast<std::int32_t>(i);
+  }
+  std::vector<VertexId> touched;
+  for (EdgeId e : kept) {
+    touched.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+    touched.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (VertexId v : touched) {
+    if (node_of[v.index()] < 0 && out[v.index()].size() >= 3) {
+      node_of[v.index()] = static_cast<std::int32_t>(topo.nodes.size());
+      topo.nodes.push_back(v);
+    }
+  }
+  std::vector<std::uint8_t> used(mesh.num_edges(), 0);
+  for (std::uint32_t a = 0; a < topo.nodes.size(); ++a) {
+    auto outgoing = out[topo.nodes[a].index()];
+    std::sort(outgoing.begin(), outgoing.end());
+    for (HalfedgeId start : outgoing) {
+      if (used[HalfedgeMesh::edge(start).index()]) continue;
+      std::vector<HalfedgeId> path;
+      HalfedgeId h = start;
+      while (true) {
+        used[HalfedgeMesh::edge(h).index()] = 1;
+        path.push_back(h);
+        const VertexId w = mesh.head(h);
+        if (node_of[w.index()] >= 0) break;
+        const auto& hs = out[w.index()];
+        SEAM_ASSERT(hs.size() == 2);
+        h = hs[0] == HalfedgeMesh::twin(h) ? hs[1] : hs[0];
+      }
+      topo.links.push_back({a, static_cast<std::uint32_t>(node_of[mesh.head(path.back()).index()])});
+      topo.paths.push_back(std::move(path));
+    }
+  }
+
+  // A terminal inside the tree hangs off a new Steiner node on its first non-terminal
+  // neighbour along one of its branches; its other branches are re-routed to that node.
+  for (std::uint32_t t = 0; t < k; ++t) {
+    std::vector<std::size_t> incident;
+    for (std::size_t l = 0; l < topo.links.size(); ++l) {
+      if (topo.links[l][0] == t || topo.links[l][1] == t) incident.push_back(l);
+    }
+    if (incident.size() <= 1) continue;
+    for (std::size_t l : incident) {
+      if (topo.links[l][1] == t) {
+        std::swap(topo.links[l][0], topo.links[l][1]);
+        topo.paths[l] = reversed(topo.paths[l]);
+      }
+    }
+    std::size_t chosen = incident.size();
+    for (std::size_t c = 0; c < incident.size(); ++c) {
+      const auto& path = topo.paths[incident[c]];
+      if (!path.empty() && terminal_of[mesh.head(path.front()).index()] < 0) {
+        chosen = c;
+        break;
+      }
+    }
+    if (chosen == incident.size()) {
+      return make_error(ErrorCode::kTopologyViolation,
+                        "terminal " + std::to_string(terminals[t].value()) +
+                            " lies between other terminals and cannot be made a leaf",
+                        {terminals[t].value()});
+    }
+    const std::size_t l0 = incident[chosen];
+    const VertexId u = mesh.head(topo.paths[l0].front());
+    std::uint32_t s;
+    if (node_of[u.index()] >= 0) {
+      s = static_cast<std::uint32_t>(node_of[u.index()]);
+    } else {
+      s = static_cast<std::uint32_t>(topo.nodes.size());
+      topo.nodes.push_back(u);
+      node_of[u.index()] = static_cast<std::int32_t>(s);
+      std::vector<HalfedgeId> rest(topo.paths[l0].begin() + 1, topo.paths[l0].end());
+      topo.links.push_back({s, topo.links[l0][1]});
+      topo.paths.push_back(std::move(rest));
+      topo.links[l0][1] = s;
+      topo.paths[l0].resize(1);
+    }
+    for (std::size_t l : incident) {
+      if (l == l0) continue;
+      topo.links[l][0] = s;
+      topo.paths[l].clear();  // no course yet: straighten_topology routes it
+    }
+  }
+  return topo;
+}
+
+Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                         std::span<const double> edge_weights, const TreeTopology& topology,
+                                         StraightenStats* stats, const CancelToken& cancel) {
+  StraightenStats local;
+  StraightenStats& st = stats ? *stats : local;
+  st = StraightenStats{};
+  const std::size_t nl = topology.links.size();
+  st.branches = nl;
+  // Shorter branches first; branches without a course first of all (they must be routed).
+  std::vector<std::size_t> order(nl);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::vector<double> len(nl);
+  for (std::size_t l = 0; l < nl; ++l) {
+    len[l] = topology.paths[l].empty() ? -1.0 : course_length(mesh, edge_weights, topology.paths[l]);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return len[a] < len[b]; });
+
+  PathSearch search(graph);
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    TreeTopology result = topology;
+    search.clear_marks();
+    for (VertexId v : topology.nodes) search.block(v);
+    std::size_t failed = nl;
+    st.kept = 0;
+    for (std::size_t l : order) {
+      if (cancel.is_cancelled()) return cancelled_error("skeleton straightening");
+      const VertexId a = topology.nodes[topology.links[l][0]];
+      const VertexId b = topology.nodes[topology.links[l][1]];
+      search.reset();
+      search.add_source(a);
+      const VertexId target[] = {b};
+      if (auto s = search.run(target, PathSearch::kUnreached, cancel); !s.ok()) return s.take_error();
+      std::vector<HalfedgeId> path;
+      if (search.reached(b)) {
+        path = search.path_to(mesh, b);
+      } else {
+        // No disjoint shortest path: keep the old course if no placed branch took its vertices.
+        const auto& old = topology.paths[l];
+        bool free = !old.empty();
+        for (std::size_t i = 0; free && i + 1 < old.size(); ++i) free = !search.is_blocked(mesh.head(old[i]));
+        if (!free) {
+          failed = l;
+          break;
+        }
+        path = old;
+        ++st.kept;
+      }
+      for (std::size_t i = 0; i + 1 < path.size(); ++i) search.block(mesh.head(path[i]));
+      result.paths[l] = std::move(path);
+    }
+    if (failed == nl) {
+      search.clear_marks();
+      return result;
+    }
+    ++st.retries;
+    order.erase(std::find(order.begin(), order.end(), failed));
+    order.insert(order.begin(), failed);
+  }
+  return make_error(ErrorCode::kTopologyViolation,
+                    "no branch layout keeps the straightened seam a tree with every terminal a leaf");
+}
+
+Result<TreeTopology> relocate_steiner_points(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                             std::span<const double> edge_weights, const TreeTopology& topology,
+                                             int rounds, const CancelToken& cancel) {
+  TreeTopology best = topology;
+  double best_length = topology_length(mesh, edge_weights, best);
+  PathSearch search(graph);
+  const std::size_t nv = mesh.num_vertices();
+  std::vector<double> sum(nv, 0.0);
+  std::vector<std::uint32_t> count(nv, 0);
+  std::vector<VertexId> touched;
+  for (int round = 0; round < rounds; ++round) {
+    TreeTopology moved = best;
+    bool any_move = false;
+    for (std::uint32_t s = static_cast<std::uint32_t>(moved.num_terminals); s < moved.nodes.size(); ++s) {
+      if (cancel.is_cancelled()) return cancelled_error("Steiner point relocation");
+      // The branches at s, each as a course from its other end to s.
+      struct Arm {
+        std::size_t link;
+        std::vector<HalfedgeId> course;
+        double length;
+      };
+      std::vector<Arm> arms;
+      for (std::size_t l = 0; l < moved.links.size(); ++l) {
+        if (moved.links[l][1] == s) arms.push_back({l, moved.paths[l], 0.0});
+        else if (moved.links[l][0] == s) arms.push_back({l, reversed(moved.paths[l]), 0.0});
+      }
+      double radius = 0.0, current = 0.0;
+      bool complete = true;
+      for (auto& arm : arms) {
+        complete = complete && !arm.course.empty();
+        arm.length = course_length(mesh, edge_weights, arm.course);
+        radius = std::max(radius, arm.length);
+        current += arm.length;
+      }
+      if (!complete || arms.size() < 3) continue;
+      // Everything but these arms is an obstacle: other nodes may only end a path, and the
+      // other branches may not be crossed or joined.
+      search.clear_marks();
+      for (VertexId v : moved.nodes) search.block(v);
+      std::vector<std::uint8_t> is_arm(moved.links.size(), 0);
+      for (const auto& arm : arms) is_arm[arm.link] = 1;
+      for (std::size_t l = 0; l < moved.links.size(); ++l) {
+        if (is_arm[l]) continue;
+        for (HalfedgeId h : moved.paths[l]) search.block(mesh.head(h));
+      }
+      // One search per arm, seeded along the arm's course with the distance travelled from its
+      // far end, and cut off `radius` beyond s: it gives each vertex x near s the length of the
+      // best course that follows the arm and then turns towards x.
+      auto seed_and_run = [&](const Arm& arm, std::span<const VertexId> target) -> Status {
+        search.reset();
+        double travelled = 0.0;
+        search.add_source(mesh.tail(arm.course.front()), 0.0);
+        for (HalfedgeId h : arm.course) {
+          travelled += edge_weight(mesh, edge_weights, h);
+          if (arm.length - travelled <= radius) search.add_source(mesh.head(h), travelled);
+        }
+        return search.run(target, arm.length + radius, cancel);
+      };
+      for (VertexId v : touched) sum[v.index()] = 0.0, count[v.index()] = 0;
+      touched.clear();
+      for (const auto& arm : arms) {
+        if (auto st = seed_and_run(arm, {}); !st.ok()) return st.take_error();
+        for (VertexId v : search.settled()) {
+          if (count[v.index()] == 0) touched.push_back(v);
+          sum[v.index()] += search.distance(v);
+          ++count[v.index()];
+        }
+      }
+      VertexId to = moved.nodes[s];
+      double to_sum = current;
+      for (VertexId v : touched) {
+        if (count[v.index()] != arms.size() || (search.is_blocked(v) && v != moved.nodes[s])) continue;
+        if (sum[v.index()] < to_sum - 1e-12 * (1.0 + current)) to_sum = sum[v.index()], to = v;
+      }
+      if (to == moved.nodes[s]) continue;
+      // Move s to `to`: each arm keeps its course up to where its search left it.
+      std::vector<std::vector<HalfedgeId>> courses;
+      for (const auto& arm : arms) {
+        const VertexId target[] = {to};
+        if (auto st = seed_and_run(arm, target); !st.ok()) return st.take_error();
+        std::vector<HalfedgeId> tail_part = search.path_to(mesh, to);
+        const VertexId seed = tail_part.empty() ? to : mesh.tail(tail_part.front());
+        std::vector<HalfedgeId> course;
+        if (seed != mesh.tail(arm.course.front())) {
+          for (HalfedgeId h : arm.course) {
+            course.push_back(h);
+            if (mesh.head(h) == seed) break;
+          }
+        }
+        course.insert(course.end(), tail_part.begin(), tail_part.end());
+        courses.push_back(without_loops(mesh, course));
+      }
+      bool ok = true;
+      for (const auto& c : courses) ok = ok && !c.empty();
+      if (!ok) continue;
+      moved.nodes[s] = to;
+      for (std::size_t a = 0; a < arms.size(); ++a) {
+        const std::size_t l = arms[a].link;
+        moved.paths[l] = moved.links[l][1] == s ? courses[a] : reversed(courses[a]);
+      }
+      any_move = true;
+    }
+    search.clear_marks();
+    if (!any_move) break;
+    // Re-straighten: the moved arms may touch each other or other branches.
+    auto straight = straighten_topology(mesh, graph, edge_weights, moved, nullptr, cancel);
+    if (!straight.ok()) {
+      if (straight.error().code == ErrorCode::kCancelled) return straight.take_error();
+      break;
+    }
+    const auto edges = topology_edges(*straight);
+    std::vector<VertexId> terminals(straight->nodes.begin(),
+                                    straight->nodes.begin() + static_cast<std::ptrdiff_t>(straight->num_terminals));
+    if (!check_full_component_tree(mesh, edges, terminals).ok()) break;
+    const double length = topology_length(mesh, edge_weights, *straight);
+    if (length >= best_length - 1e-12 * (1.0 + best_length)) break;
+    best = std::move(straight).value();
+    best_length = length;
+  }
+  return best;
 }
 
 std::vector<EdgeId> topology_edges(const TreeTopology& topology) {

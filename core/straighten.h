@@ -43,7 +43,52 @@ Result<std::vector<EdgeId>> star_tree(const HalfedgeMesh& mesh, const EdgeGraph&
                                       std::span<const VertexId> terminals,
                                       const CancelToken& cancel = CancelToken::none());
 
+/// The structure of a skeleton (Algorithm 3's output, any edge set): keeps a spanning tree
+/// of the part touching terminals, prunes non-terminal leaves, and where a terminal is
+/// not a leaf, hangs it off a new Steiner node placed on its first neighbour so that the
+/// terminal becomes a leaf (its other branches are left without a course, for
+/// straighten_topology to route). Pieces of the skeleton that do not touch each other, and
+/// terminals it misses, are joined by terminal-avoiding shortest paths (one search each).
+/// Errors: kTopologyViolation (a terminal cannot be made a leaf), kCancelled.
+/// O(|edges| log |edges| + V), plus one search per joined piece.
+Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                       std::span<const EdgeId> skeleton_edges,
+                                       std::span<const VertexId> terminals,
+                                       std::span<const double> edge_weights,
+                                       const CancelToken& cancel = CancelToken::none());
+
+struct StraightenStats {
+  std::size_t branches = 0;
+  std::size_t kept = 0;     ///< branches left on their previous course (no disjoint shortest path)
+  std::size_t retries = 0;  ///< restarts with a blocked branch placed first
+};
+
+/// §4.4: keeps terminals and Steiner points fixed and replaces every branch by a shortest
+/// path that passes through no other node and shares no vertex with the other branches,
+/// so the result stays a tree with every terminal a leaf. Shorter branches are placed
+/// first; a branch with no such path keeps its previous course when that is still
+/// disjoint; a branch that is blocked entirely is placed first in a new attempt (up to 3).
+/// A branch without a previous course (empty path) must be routed.
+/// Errors: kTopologyViolation (no disjoint course for some branch), kCancelled.
+/// Complexity: O(b E log V) worst case, b = number of branches; each search stops at its
+/// target, so typically far less.
+Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                         std::span<const double> edge_weights, const TreeTopology& topology, StraightenStats* stats = nullptr,
+                                         const CancelToken& cancel = CancelToken::none());
+
+/// Beyond the paper: moves each Steiner point to the vertex nearby that minimises the sum
+/// of distances to its tree neighbours (a local Steiner problem solved with one bounded
+/// search per neighbour), then straightens again; repeats while the tree gets shorter, at
+/// most `rounds` times. Never returns a longer tree. Errors: kCancelled.
+Result<TreeTopology> relocate_steiner_points(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                             std::span<const double> edge_weights, const TreeTopology& topology,
+                                             int rounds = 4, const CancelToken& cancel = CancelToken::none());
+
 /// The sorted, unique edges of all paths of `topology`.
 std::vector<EdgeId> topology_edges(const TreeTopology& topology);
+
+/// Sum of the weights of topology_edges(topology) (`edge_weights` empty: Euclidean).
+double topology_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
+                       const TreeTopology& topology);
 
 }  // namespace seam::core

@@ -1,0 +1,33 @@
+// The skeleton seam with every intermediate stage exposed, for tests, benchmarks and
+// debugging: the tour, the raw skeleton, the straightened tree, and whether a fallback ran.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/shrink.h"
+#include "core/skeleton.h"
+#include "core/straighten.h"
+#include "core/tour.h"
+
+namespace seam::core {
+
+struct SkeletonTrace {
+  Tour tour;                          ///< after Algorithm 2 (empty with two terminals)
+  TourStats tour_stats;
+  std::vector<EdgeId> raw_skeleton;   ///< Algorithm 3's exported edges
+  TreeTopology straightened;          ///< after §4.4
+  StraightenStats straighten_stats;
+  double straightened_length = 0;     ///< = SkeletonStats::length_before_refine
+  double refined_length = 0;          ///< after relocate_steiner_points (0 when refine is off)
+  bool fallback = false;              ///< a stage failed and the star tree was returned instead
+  std::string fallback_reason;
+};
+
+/// skeleton_seam, recording each stage into `trace` (may be null). Same contract.
+Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                            std::span<const double> edge_weights, const TerminalPaths& paths,
+                                            const SkeletonOptions& options, SkeletonTrace* trace,
+                                            const CancelToken& cancel = CancelToken::none());
+
+}  // namespace seam::core
