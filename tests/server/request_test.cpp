@@ -1,0 +1,85 @@
+// Request decoding without HTTP: media types, base64, Accept negotiation, the JSON form.
+#include "server/request.h"
+
+#include <doctest/doctest.h>
+
+#include <random>
+
+using seam::api::ApiErrorCode;
+using seam::api::AssetKind;
+using namespace seam::server;
+
+TEST_CASE("base64 round-trips every length and refuses corrupt input") {
+  std::mt19937 rng(7);
+  for (std::size_t n = 0; n < 70; ++n) {
+    std::string bytes(n, '\0');
+    for (auto& b : bytes) b = static_cast<char>(rng() & 0xFF);
+    const auto text = encode_base64(bytes);
+    CHECK(text.size() == (n + 2) / 3 * 4);
+    auto back = decode_base64(text);
+    REQUIRE(back.ok());
+    CHECK(back.value() == bytes);
+    // Unpadded and line-wrapped forms are accepted too.
+    auto unpadded = text.substr(0, text.find('='));
+    auto back2 = decode_base64(unpadded.substr(0, unpadded.size() / 2) + "\r\n" + unpadded.substr(unpadded.size() / 2));
+    REQUIRE(back2.ok());
+    CHECK(back2.value() == bytes);
+  }
+  CHECK(decode_base64("Zm9v").value() == "foo");
+  for (const char* bad : {"Zm9v!", "Zm9vY", "Zg==Zg==", "Zg===", "Zm9v====", "Z"}) {
+    CAPTURE(bad);
+    auto r = decode_base64(bad);
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == ApiErrorCode::kMalformedRequest);
+  }
+}
+
+TEST_CASE("media types and Accept negotiation") {
+  CHECK(media_type(" Model/GLTF-Binary ; charset=x") == "model/gltf-binary");
+  CHECK(media_type("") == "");
+  CHECK(asset_kind_for_media_type("model/gltf-binary") == AssetKind::kGlb);
+  CHECK(asset_kind_for_media_type("model/gltf+json") == AssetKind::kGltfJson);
+  CHECK(asset_kind_for_media_type("application/octet-stream") == AssetKind::kAuto);
+  CHECK(!asset_kind_for_media_type("text/plain").has_value());
+  CHECK(!asset_kind_for_media_type("").has_value());
+
+  CHECK(accepts_glb("model/gltf-binary"));
+  CHECK(accepts_glb("application/json;q=0.5, model/gltf-binary"));
+  CHECK(accepts_glb("model/gltf-binary;q=0.9"));
+  CHECK(!accepts_glb("model/gltf-binary;q=0"));
+  CHECK(!accepts_glb("*/*"));
+  CHECK(!accepts_glb("application/json"));
+  CHECK(!accepts_glb(""));
+}
+
+TEST_CASE("the JSON request form") {
+  auto ok = parse_json_request(R"({"mesh":{"glb_base64":")" + encode_base64("glTF....") + R"("},"method":"mst"})");
+  REQUIRE(ok.ok());
+  CHECK(ok->asset == "glTF....");
+  CHECK(ok->params.method == seam::core::SeamMethod::kMst);
+
+  auto gltf = parse_json_request(R"({"mesh":{"gltf":{"asset":{"version":"2.0"}}}})");
+  REQUIRE(gltf.ok());
+  CHECK(gltf->kind == AssetKind::kGltfJson);
+  CHECK(nlohmann::json::parse(gltf->asset)["asset"]["version"] == "2.0");
+
+  struct Bad {
+    const char* body;
+    ApiErrorCode code;
+  };
+  for (const auto& b : {Bad{"", ApiErrorCode::kMalformedRequest}, Bad{"[1,2]", ApiErrorCode::kMalformedRequest},
+                        Bad{R"({"extrema":[1]})", ApiErrorCode::kMalformedRequest},
+                        Bad{R"({"mesh":{}})", ApiErrorCode::kMalformedRequest},
+                        Bad{R"({"mesh":{"glb_base64":"Zg==","gltf":{}}})", ApiErrorCode::kMalformedRequest},
+                        Bad{R"({"mesh":{"glb_base64":12}})", ApiErrorCode::kMalformedRequest},
+                        Bad{R"({"mesh":{"gltf":"x"}})", ApiErrorCode::kMalformedRequest},
+                        Bad{R"({"mesh":{"glb_base64":"Zg=="},"nonsense":1})", ApiErrorCode::kInvalidParameter}}) {
+    CAPTURE(b.body);
+    auto r = parse_json_request(b.body);
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == b.code);
+  }
+  CHECK(parse_params_part("").ok());
+  CHECK(parse_params_part("  ").ok());
+  CHECK(parse_params_part("[]").error().code == ApiErrorCode::kMalformedRequest);
+}
