@@ -1,11 +1,76 @@
 #include "core/bff.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include <Eigen/SparseCholesky>
 
 namespace seam::core {
+
+namespace {
+
+std::size_t count_inverted(const DiscPatch& patch, const std::vector<Vec2>& uv) {
+  std::size_t count = 0;
+  for (const Triangle& t : patch.triangles) {
+    const Vec2 a = uv[t[1]] - uv[t[0]];
+    const Vec2 b = uv[t[2]] - uv[t[0]];
+    if (!(a.x() * b.y() - a.y() * b.x() > 0)) ++count;
+  }
+  return count;
+}
+
+// Dirichlet extension of the boundary values in `uv` with edge weights max(w_ij, floor),
+// floor a small fraction of the mean positive weight, so every weight is positive.
+Result<std::vector<Vec2>> extend_positive(const DiscPatch& patch, const std::vector<Eigen::Index>& interior_index,
+                                          std::vector<Vec2> uv, const CancelToken& cancel) {
+  const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(patch);
+  double positive_sum = 0;
+  std::size_t positive_count = 0;
+  for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
+      if (it.row() != c && -it.value() > 0) {
+        positive_sum += -it.value();
+        ++positive_count;
+      }
+    }
+  }
+  const double floor = positive_count > 0 ? 1e-3 * positive_sum / static_cast<double>(positive_count) : 1.0;
+  Eigen::Index num_interior = 0;
+  for (Eigen::Index i : interior_index) num_interior += i >= 0 ? 1 : 0;
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(num_interior);
+  Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(num_interior, 2);
+  for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
+      const Eigen::Index r = it.row();
+      if (r == c || interior_index[r] < 0) continue;
+      const double w = std::max(-it.value(), floor);
+      diagonal[interior_index[r]] += w;
+      if (interior_index[c] >= 0) {
+        entries.emplace_back(interior_index[r], interior_index[c], -w);
+      } else {
+        rhs.row(interior_index[r]) += w * uv[static_cast<std::size_t>(c)].transpose();
+      }
+    }
+  }
+  for (Eigen::Index i = 0; i < num_interior; ++i) entries.emplace_back(i, i, diagonal[i]);
+  Eigen::SparseMatrix<double> system(num_interior, num_interior);
+  system.setFromTriplets(entries.begin(), entries.end());
+  if (cancel.is_cancelled()) return cancelled_error("BFF extension");
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver(system);
+  if (solver.info() != Eigen::Success) {
+    return make_error(ErrorCode::kSolverFailed, "BFF: the positive-weight extension failed to factor");
+  }
+  const Eigen::MatrixX2d xy = solver.solve(rhs);
+  if (!xy.allFinite()) return make_error(ErrorCode::kSolverFailed, "BFF: the positive-weight extension diverged");
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    if (interior_index[v] >= 0) uv[v] = Vec2(xy(interior_index[v], 0), xy(interior_index[v], 1));
+  }
+  return uv;
+}
+
+}  // namespace
 
 Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel) {
   const std::size_t n = patch.num_vertices();
@@ -123,6 +188,14 @@ Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken&
     }
     for (std::size_t v = 0; v < n; ++v) {
       if (interior_index[v] >= 0) uv[v] = Vec2(x[interior_index[v]], y[interior_index[v]]);
+    }
+    if (count_inverted(patch, uv) > 0) {
+      // Cotan weights are negative across non-Delaunay edges, and then the discrete harmonic
+      // extension has no maximum principle and can fold. Retry with the weights clamped to
+      // be positive (a convex-combination map in the sense of Floater): one more
+      // factorization, paid only by meshes that need it; kept only if it folds less.
+      SEAM_TRY(std::vector<Vec2> positive, extend_positive(patch, interior_index, uv, cancel));
+      if (count_inverted(patch, positive) < count_inverted(patch, uv)) uv = std::move(positive);
     }
   }
   return uv;

@@ -161,15 +161,24 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
   const double inv = fit > 0 ? 1.0 / fit : 1.0;
 
   // The stored UVs are float32: round here so that what we measure is what ships.
-  result.uv.assign(disc_mesh.num_vertices(), Vec2::Zero());
+  // The rounded values go through float storage: with GCC 12 at -O3 a direct
+  // double->float->double cast in this loop was observed to leave the doubles unrounded
+  // (the test checks that every stored value is exactly a float).
   VertexData<Vec2> exact(disc_mesh.num_vertices(), Vec2::Zero());
+  std::vector<float> stored(2 * disc_mesh.num_vertices(), 0.0f);
   for (std::size_t c = 0; c < patches.size(); ++c) {
     const DiscPatch& patch = patches[c];
     for (std::size_t v = 0; v < patch.num_vertices(); ++v) {
       const Vec2 p = ((charts[c].uv[v] + charts[c].offset) * inv).cwiseMax(0.0).cwiseMin(1.0);
-      exact[patch.to_mesh[v]] = p;
-      result.uv[patch.to_mesh[v]] = Vec2(static_cast<float>(p.x()), static_cast<float>(p.y()));
+      const VertexId id = patch.to_mesh[v];
+      exact[id] = p;
+      stored[2 * id.index()] = static_cast<float>(p.x());
+      stored[2 * id.index() + 1] = static_cast<float>(p.y());
     }
+  }
+  result.uv.assign(disc_mesh.num_vertices(), Vec2::Zero());
+  for (std::size_t v = 0; v < disc_mesh.num_vertices(); ++v) {
+    result.uv[VertexId(v)] = Vec2(double{stored[2 * v]}, double{stored[2 * v + 1]});
   }
   for (std::size_t f = 0; f < disc_mesh.num_faces(); ++f) {
     const auto vs = disc_mesh.face_vertices(FaceId(f));

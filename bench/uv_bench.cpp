@@ -1,0 +1,150 @@
+// Flattening benchmark: time and distortion per method on real CGAL discs, on growing
+// meshes (10k .. ~1M faces), and (once the seam pipeline links) on closed protrusion meshes
+// cut by each seam method. Prints tables; asserts nothing.
+//
+//   uv_bench            all sections
+//   uv_bench quick      skips the ~1M-face sizes
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "api/mesh_io.h"
+#include "core/halfedge_mesh.h"
+#include "core/parameterize.h"
+#include "core/topology.h"
+#include "core/weld.h"
+
+using namespace seam::core;
+
+namespace {
+
+std::string mesh_path(const std::string& name) { return std::string(SEAM_TEST_DATA_DIR) + "/meshes/" + name + ".off"; }
+
+bool load(const std::string& name, IndexedMesh& out) {
+  auto mesh = seam::api::read_mesh_file(mesh_path(name));
+  if (!mesh.ok()) {
+    std::printf("  (skipping %s: %s)\n", name.c_str(), mesh.error().message.c_str());
+    return false;
+  }
+  out = std::move(mesh).value();
+  return true;
+}
+
+bool build(const IndexedMesh& soup, HalfedgeMesh& out) {
+  auto weld = weld_vertices(soup.positions, {});
+  if (!weld.ok()) return false;
+  const auto tris = remap_triangles(soup.triangles, weld->input_to_welded);
+  auto mesh = build_halfedge_mesh(weld->positions, tris);
+  if (!mesh.ok()) {
+    std::printf("  (build failed: %s)\n", mesh.error().message.c_str());
+    return false;
+  }
+  out = std::move(mesh).value();
+  return true;
+}
+
+/// 1:4 midpoint subdivision (no smoothing): same surface, four times the faces.
+IndexedMesh subdivide(const IndexedMesh& in) {
+  IndexedMesh out;
+  out.positions = in.positions;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+  auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+    const auto key = std::minmax(a, b);
+    auto [it, inserted] = mid.try_emplace(key, static_cast<std::uint32_t>(out.positions.size()));
+    if (inserted) out.positions.push_back(0.5 * (in.positions[a] + in.positions[b]));
+    return it->second;
+  };
+  for (const auto& t : in.triangles) {
+    const auto a = midpoint(t[0], t[1]);
+    const auto b = midpoint(t[1], t[2]);
+    const auto c = midpoint(t[2], t[0]);
+    out.triangles.push_back({t[0], a, c});
+    out.triangles.push_back({t[1], b, a});
+    out.triangles.push_back({t[2], c, b});
+    out.triangles.push_back({a, b, c});
+  }
+  return out;
+}
+
+/// A wavy height field over [0,1]^2 with 2 n^2 faces: a curved (non-developable) disc.
+IndexedMesh height_field(int n) {
+  IndexedMesh m;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const double x = static_cast<double>(i) / n;
+      const double y = static_cast<double>(j) / n;
+      m.positions.emplace_back(x, y, 0.25 * std::sin(6 * x) * std::cos(4 * y) + 0.3 * x * y);
+    }
+  }
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return m;
+}
+
+constexpr UvMethod kMethods[] = {UvMethod::kLscm, UvMethod::kBff, UvMethod::kArap};
+
+void header() {
+  std::printf("%-26s %9s %-5s %9s %9s %8s %8s %8s %10s %7s %5s\n", "mesh", "faces", "uv", "ms", "area", "area_geo",
+              "angle", "L2", "Linf", "flips", "f32");
+}
+
+void row(const std::string& name, const HalfedgeMesh& mesh, UvMethod method) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = parameterize(mesh, {.method = method});
+  const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (!r.ok()) {
+    std::printf("%-26s %9zu %-5s  error: %s\n", name.c_str(), mesh.num_faces(), uv_method_name(method),
+                r.error().message.c_str());
+    return;
+  }
+  const Distortion& d = r->distortion;
+  std::printf("%-26s %9zu %-5s %9.1f %9.3f %8.3f %8.3f %8.3f %10.3f %7zu %5zu%s\n", name.c_str(), mesh.num_faces(),
+              uv_method_name(r->method_used), total_ms, d.area, d.area_geometric, d.angle, d.stretch_l2,
+              d.stretch_linf, d.flipped, r->float32_degenerate, r->method_used != method ? " (arap fell back)" : "");
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "quick") == 0;
+  std::printf("== real CGAL discs (1 boundary loop, genus 0); ms = parameterize() incl. packing+measuring\n");
+  header();
+  for (const char* name : {"nefertiti", "patch-01", "three_peaks", "mushroom", "lion-head", "mannequin-devil"}) {
+    IndexedMesh soup;
+    HalfedgeMesh mesh;
+    if (!load(name, soup) || !build(soup, mesh)) continue;
+    for (UvMethod m : kMethods) row(name, mesh, m);
+  }
+
+  std::printf("\n== scaling: lion-head midpoint-subdivided, and a wavy height field\n");
+  header();
+  {
+    IndexedMesh soup;
+    if (load("lion-head", soup)) {
+      for (int level = 0; level <= (quick ? 2 : 3); ++level) {
+        HalfedgeMesh mesh;
+        if (build(soup, mesh)) {
+          for (UvMethod m : kMethods) row("lion-head/sub" + std::to_string(level), mesh, m);
+        }
+        if (level < 3) soup = subdivide(soup);
+      }
+    }
+    for (int n : {71, 224, 707}) {
+      if (quick && n > 300) continue;
+      HalfedgeMesh mesh;
+      if (!build(height_field(n), mesh)) continue;
+      for (UvMethod m : kMethods) row("heightfield/" + std::to_string(n), mesh, m);
+    }
+  }
+  return 0;
+}
