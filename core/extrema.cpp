@@ -6,6 +6,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "core/geodesic.h"
@@ -15,52 +16,109 @@ namespace seam::core {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::uint32_t kNone = VertexId::kInvalidValue;
 
-// Single-source Dijkstra with buffers reused across the many runs of one detection. We do not
-// call core::dijkstra here: it allocates and clears five arrays of the whole mesh per run,
-// which dominates on meshes with many small components, and we need neither parents nor
-// targets. Only the vertices a run touched are reset afterwards.
-class DistanceScratch {
+// A 4-ary min-heap of local vertex indices keyed by an external distance array, with
+// decrease-key (no stale entries, so the heap never exceeds the component's size). Ties are
+// ordered by index so every run settles vertices in one deterministic order.
+class IndexedHeap {
  public:
-  explicit DistanceScratch(std::size_t num_vertices) : distance_(num_vertices, kInf) {}
+  IndexedHeap(const std::vector<double>& key, std::size_t size) : key_(key), position_(size, kNone) {}
 
-  // Distances from `source` to every vertex of its component; read them with distance().
-  Status run(const EdgeGraph& graph, std::uint32_t source, const CancelToken& cancel) {
-    for (std::uint32_t v : touched_) distance_[v] = kInf;
-    touched_.clear();
-    heap_.clear();
-    distance_[source] = 0.0;
-    touched_.push_back(source);
-    heap_.emplace_back(0.0, source);
-    std::uint32_t polls = 0;
-    const auto later = std::greater<>();
-    while (!heap_.empty()) {
-      if (cancel.poll(polls)) return cancelled_error("extrema detection");
-      std::pop_heap(heap_.begin(), heap_.end(), later);
-      const auto [d, v] = heap_.back();
-      heap_.pop_back();
-      if (d > distance_[v]) continue;  // a stale entry: v was reached more cheaply since
-      for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
-        const std::uint32_t w = graph.head[slot].value();
-        const double nd = d + graph.weight[slot];
-        if (nd < distance_[w]) {
-          if (distance_[w] == kInf) touched_.push_back(w);
-          distance_[w] = nd;
-          heap_.emplace_back(nd, w);
-          std::push_heap(heap_.begin(), heap_.end(), later);
-        }
-      }
+  bool empty() const { return heap_.empty(); }
+
+  void push_or_decrease(std::uint32_t v) {
+    std::uint32_t i = position_[v];
+    if (i == kNone) {
+      i = static_cast<std::uint32_t>(heap_.size());
+      heap_.push_back(v);
     }
-    return Ok{};
+    sift_up(i, v);
   }
 
-  double distance(std::uint32_t v) const { return distance_[v]; }
+  std::uint32_t pop() {
+    const std::uint32_t top = heap_[0];
+    position_[top] = kNone;
+    const std::uint32_t last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) sift_down(0, last);
+    return top;
+  }
 
  private:
-  std::vector<double> distance_;
-  std::vector<std::uint32_t> touched_;
-  std::vector<std::pair<double, std::uint32_t>> heap_;
+  bool less(std::uint32_t a, std::uint32_t b) const {
+    return key_[a] < key_[b] || (key_[a] == key_[b] && a < b);
+  }
+  void place(std::uint32_t i, std::uint32_t v) {
+    heap_[i] = v;
+    position_[v] = i;
+  }
+  void sift_up(std::uint32_t i, std::uint32_t v) {
+    while (i > 0) {
+      const std::uint32_t parent = (i - 1) / 4;
+      if (!less(v, heap_[parent])) break;
+      place(i, heap_[parent]);
+      i = parent;
+    }
+    place(i, v);
+  }
+  void sift_down(std::uint32_t i, std::uint32_t v) {
+    const auto n = static_cast<std::uint32_t>(heap_.size());
+    while (true) {
+      const std::uint32_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::uint32_t best = first;
+      const std::uint32_t end = std::min(first + 4, n);
+      for (std::uint32_t c = first + 1; c < end; ++c) {
+        if (less(heap_[c], heap_[best])) best = c;
+      }
+      if (!less(heap_[best], v)) break;
+      place(i, heap_[best]);
+      i = best;
+    }
+    place(i, v);
+  }
+
+  const std::vector<double>& key_;
+  std::vector<std::uint32_t> position_;
+  std::vector<std::uint32_t> heap_;
 };
+
+struct Component {
+  std::vector<std::uint32_t> vertices;  // ascending vertex ids; local index = position here
+  double area = 0;
+};
+
+// Dijkstra on one component in local indices. `distance` holds upper bounds on entry (kInf,
+// or the distances to earlier sources); a vertex is relaxed only when the new source is
+// strictly closer, so with earlier distances in place only the new source's geodesic Voronoi
+// cell is explored: farthest-point sampling then costs a few full runs in total, not one per
+// sample. `on_improve(w)` is called for every vertex whose distance drops.
+template <class OnImprove>
+Status relax_from(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
+                  std::uint32_t source, std::vector<double>& distance, IndexedHeap& heap,
+                  const CancelToken& cancel, OnImprove&& on_improve) {
+  distance[source] = 0.0;
+  on_improve(source);
+  heap.push_or_decrease(source);
+  std::uint32_t polls = 0;
+  while (!heap.empty()) {
+    if (cancel.poll(polls)) return cancelled_error("extrema detection");
+    const std::uint32_t v = heap.pop();
+    const double d = distance[v];
+    const std::uint32_t gv = comp.vertices[v];
+    for (std::uint32_t slot = graph.offsets[gv]; slot < graph.offsets[gv + 1]; ++slot) {
+      const std::uint32_t w = local_of[graph.head[slot].index()];
+      const double nd = d + graph.weight[slot];
+      if (nd < distance[w]) {
+        distance[w] = nd;
+        on_improve(w);
+        heap.push_or_decrease(w);
+      }
+    }
+  }
+  return Ok{};
+}
 
 // One third of the area of every incident face: the vertex's share of the surface.
 std::vector<double> vertex_areas(const HalfedgeMesh& mesh) {
@@ -73,11 +131,6 @@ std::vector<double> vertex_areas(const HalfedgeMesh& mesh) {
   }
   return area;
 }
-
-struct Component {
-  std::vector<std::uint32_t> vertices;  // ascending vertex ids; local index = position here
-  double area = 0;
-};
 
 // Vertex lists of the components that have faces, numbered as compute_topology() does.
 std::vector<Component> collect_components(const HalfedgeMesh& mesh, const Topology& topo,
@@ -93,14 +146,18 @@ std::vector<Component> collect_components(const HalfedgeMesh& mesh, const Topolo
   return components;
 }
 
+// Components below this size run their sources on the calling thread: starting threads
+// costs more than the work.
+constexpr std::size_t kMinVerticesPerThread = 20000;
+
 // The AGD estimate on one component, divided by sqrt(area), indexed like comp.vertices.
-// Farthest-point sampling starts from the vertex farthest from the component's lowest id, an
-// end of an approximate diameter, so the first source does not depend on the numbering more
-// than the ties of a symmetric shape do.
+// Farthest-point sampling starts from the vertex farthest from the component's lowest id (an
+// end of an approximate diameter), so the start depends on the numbering only through the
+// ties of a symmetric shape.
 Result<std::vector<double>> component_field(const EdgeGraph& graph, const Component& comp,
-                                            const std::vector<double>& area, std::size_t samples,
-                                            DistanceScratch& scratch, std::size_t& samples_used,
-                                            const CancelToken& cancel) {
+                                            const std::vector<std::uint32_t>& local_of,
+                                            const std::vector<double>& area, std::size_t samples, unsigned threads,
+                                            std::size_t& samples_used, const CancelToken& cancel) {
   const std::size_t n = comp.vertices.size();
   const std::size_t k_max = std::min(samples, n);
   auto farthest = [&](const std::vector<double>& value) {
@@ -108,52 +165,80 @@ Result<std::vector<double>> component_field(const EdgeGraph& graph, const Compon
     for (std::size_t j = 1; j < n; ++j) {
       if (value[j] > value[best]) best = j;
     }
-    return best;
+    return static_cast<std::uint32_t>(best);
   };
+  auto nothing = [](std::uint32_t) {};
 
+  // 1. Farthest-point sampling with incremental (Voronoi-pruned) Dijkstra runs.
   std::vector<double> nearest_distance(n, kInf);
   std::vector<std::uint32_t> nearest_sample(n, 0);
-  // Distances from every source, kept as floats (half the memory; 7 digits are plenty for a
-  // sum that is thresholded at a few percent of sqrt(area)).
-  std::vector<float> distances;
-  distances.reserve(k_max * n);
-
-  if (auto st = scratch.run(graph, comp.vertices[0], cancel); !st.ok()) return st.take_error();
+  std::vector<std::uint32_t> sources;
+  double bound = 0;  // >= every distance in the component: twice the eccentricity of vertex 0
   {
-    std::vector<double> from_first(n);
-    for (std::size_t j = 0; j < n; ++j) from_first[j] = scratch.distance(comp.vertices[j]);
-    std::size_t source = farthest(from_first);
-    std::size_t k = 0;
-    while (k < k_max) {
-      if (cancel.is_cancelled()) return cancelled_error("extrema detection");
-      if (auto st = scratch.run(graph, comp.vertices[source], cancel); !st.ok()) return st.take_error();
-      for (std::size_t j = 0; j < n; ++j) {
-        const double d = scratch.distance(comp.vertices[j]);
-        SEAM_ASSERT(d != kInf);  // a component is connected through its edges
-        distances.push_back(static_cast<float>(d));
-        if (d < nearest_distance[j]) {
-          nearest_distance[j] = d;
-          nearest_sample[j] = static_cast<std::uint32_t>(k);
-        }
+    IndexedHeap heap(nearest_distance, n);
+    if (auto st = relax_from(graph, comp, local_of, 0, nearest_distance, heap, cancel, nothing); !st.ok()) {
+      return st.take_error();
+    }
+    std::uint32_t source = farthest(nearest_distance);
+    bound = 2.0 * nearest_distance[source];
+    std::fill(nearest_distance.begin(), nearest_distance.end(), kInf);
+    while (sources.size() < k_max) {
+      const auto k = static_cast<std::uint32_t>(sources.size());
+      sources.push_back(source);
+      auto claim = [&](std::uint32_t w) { nearest_sample[w] = k; };
+      if (auto st = relax_from(graph, comp, local_of, source, nearest_distance, heap, cancel, claim); !st.ok()) {
+        return st.take_error();
       }
-      ++k;
       source = farthest(nearest_distance);
       if (nearest_distance[source] == 0.0) break;  // every vertex is a source already
     }
-    samples_used = k;
   }
+  samples_used = sources.size();
 
-  // Geodesic Voronoi cell areas make the sum a quadrature of the area integral instead of
-  // an average over sources that farthest-point sampling places preferentially at tips.
-  std::vector<double> weight(samples_used, 0.0);
-  for (std::size_t j = 0; j < n; ++j) weight[nearest_sample[j]] += area[comp.vertices[j]];
-  const double scale = 1.0 / (comp.area * std::sqrt(comp.area));
-  std::vector<double> f(n, 0.0);
-  for (std::size_t i = 0; i < samples_used; ++i) {
-    const double w = weight[i] * scale;
-    const float* row = distances.data() + i * n;
-    for (std::size_t j = 0; j < n; ++j) f[j] += w * static_cast<double>(row[j]);
+  // 2. Geodesic Voronoi cell areas make the sum a quadrature of the area integral, not an
+  // average over sources that farthest-point sampling places preferentially at tips.
+  std::vector<double> weight(sources.size(), 0.0);
+  for (std::size_t j = 0; j < n; ++j) weight[nearest_sample[j]] += area[comp.vertices[j]] / comp.area;
+
+  // 3. One full Dijkstra per source, in parallel. Each term w_i d_i(v) is rounded to a fixed
+  // point before summing, so integer addition makes the sum independent of the order and
+  // thus of the thread count: the result is bit-identical on every machine.
+  const double to_fixed = bound > 0 ? std::ldexp(1.0, 52) / bound : 0.0;
+  const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t wanted = threads == 0 ? hw : threads;
+  const std::size_t num_threads = std::clamp<std::size_t>(std::min(wanted, n / kMinVerticesPerThread), 1,
+                                                          sources.size());
+  std::vector<std::vector<std::int64_t>> partial(num_threads);
+  std::vector<Status> status(num_threads, Ok{});
+  auto work = [&](std::size_t t) {
+    std::vector<std::int64_t>& acc = partial[t];
+    acc.assign(n, 0);
+    std::vector<double> distance(n, kInf);
+    IndexedHeap heap(distance, n);
+    for (std::size_t i = t; i < sources.size(); i += num_threads) {
+      std::fill(distance.begin(), distance.end(), kInf);
+      auto st = relax_from(graph, comp, local_of, sources[i], distance, heap, cancel, nothing);
+      if (!st.ok()) {
+        status[t] = std::move(st);
+        return;
+      }
+      const double scale = weight[i] * to_fixed;
+      for (std::size_t j = 0; j < n; ++j) acc[j] += std::llround(distance[j] * scale);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < num_threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (auto& thread : pool) thread.join();
+  for (auto& st : status) {
+    if (!st.ok()) return st.take_error();
   }
+  for (std::size_t t = 1; t < num_threads; ++t) {
+    for (std::size_t j = 0; j < n; ++j) partial[0][j] += partial[t][j];
+  }
+  const double from_fixed = to_fixed > 0 ? 1.0 / (to_fixed * std::sqrt(comp.area)) : 0.0;
+  std::vector<double> f(n);
+  for (std::size_t j = 0; j < n; ++j) f[j] = static_cast<double>(partial[0][j]) * from_fixed;
   return f;
 }
 
@@ -247,7 +332,6 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOpti
   const std::vector<Component> components = collect_components(mesh, topo, area);
   const EdgeGraph graph = build_edge_graph(mesh);
   std::vector<std::uint32_t> local_of(mesh.num_vertices(), VertexId::kInvalidValue);
-  DistanceScratch scratch(mesh.num_vertices());
 
   for (std::size_t c = 0; c < components.size(); ++c) {
     const Component& comp = components[c];
@@ -257,7 +341,7 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOpti
 
     std::size_t used = 0;
     SEAM_TRY(const std::vector<double> f,
-             component_field(graph, comp, area, options.samples, scratch, used, cancel));
+             component_field(graph, comp, local_of, area, options.samples, options.threads, used, cancel));
     result.stats.samples += used;
     if (cancel.is_cancelled()) return cancelled_error("extrema detection");
 
@@ -300,12 +384,14 @@ Result<VertexData<double>> average_geodesic_distance(const HalfedgeMesh& mesh, s
   const std::vector<double> area = vertex_areas(mesh);
   const std::vector<Component> components = collect_components(mesh, topo, area);
   const EdgeGraph graph = build_edge_graph(mesh);
-  DistanceScratch scratch(mesh.num_vertices());
+  std::vector<std::uint32_t> local_of(mesh.num_vertices(), kNone);
   VertexData<double> field(mesh.num_vertices(), 0.0);
   for (const Component& comp : components) {
     if (comp.vertices.empty() || !(comp.area > 0)) continue;
+    for (std::size_t j = 0; j < comp.vertices.size(); ++j) local_of[comp.vertices[j]] = static_cast<std::uint32_t>(j);
     std::size_t used = 0;
-    SEAM_TRY(const std::vector<double> f, component_field(graph, comp, area, samples, scratch, used, cancel));
+    SEAM_TRY(const std::vector<double> f,
+             component_field(graph, comp, local_of, area, samples, 0, used, cancel));
     for (std::size_t j = 0; j < comp.vertices.size(); ++j) field[VertexId(comp.vertices[j])] = f[j];
   }
   return field;

@@ -6,6 +6,8 @@
 // 1. Per connected component, f(v) = sum_i w_i d(s_i, v), the AGD estimated from `samples`
 //    geodesic sources s_i chosen by farthest-point sampling (Hilaga et al., SIGGRAPH 2001,
 //    "base vertices"), each weighted by the area of its geodesic Voronoi cell, w_i = A_i / A.
+//    The sampling runs cost about three Dijkstra passes in all (each new source explores only
+//    its Voronoi cell); the `samples` full passes for f run in parallel.
 //    d is Dijkstra's distance on the edge graph (core/geodesic.h). AGD is nearly constant on
 //    a round body and grows along every protrusion, so its local maxima are the tips
 //    (Zhang, Mischaikow & Turk, "Feature-based surface parameterization and texture
@@ -41,13 +43,20 @@ struct ExtremaOptions {
   /// A protrusion counts only if its length (geodesic, from tip to where it joins the body)
   /// is at least this fraction of sqrt(surface area). 0 keeps every local maximum.
   /// Must be finite and >= 0. The area is that of the tip's connected component.
-  double min_protrusion = 0.15;
+  /// The length is measured as the rise of the AGD (see above), which equals the length for a
+  /// thin protrusion and is smaller for a stubby one. 0.05 keeps the feet, ears and trunk of
+  /// CGAL's elephant (prominences 0.08-0.39) and drops its wiggles (<= 0.014); see
+  /// tests/core/extrema_test.cpp and bench/extrema_bench.cpp for the measured gaps.
+  double min_protrusion = 0.05;
   /// At most this many extrema per component (the most prominent first). 0 = no limit.
   std::size_t max_count = 16;
   /// Farthest-point geodesic sources per component for the AGD estimate (capped at the
   /// component's vertex count). More samples: a smoother f at a linear cost in time.
   /// Must be >= 2.
-  std::size_t samples = 24;
+  std::size_t samples = 16;
+  /// Threads for the per-source Dijkstra runs (0 = hardware concurrency); components under
+  /// 20k vertices use one. The result does not depend on it (bit-identical).
+  unsigned threads = 0;
 };
 
 /// One detected protrusion tip.
@@ -74,8 +83,8 @@ struct ExtremaResult {
 /// Detects protrusion tips on every component with their prominence (method above).
 /// Preconditions: `mesh` came from build_halfedge_mesh. Isolated vertices are ignored.
 /// Errors: kInvalidArgument (min_protrusion negative or not finite, samples < 2), kCancelled.
-/// Complexity: O(samples * E log V) for the geodesic sources plus O(V log V) for the merge
-/// tree; memory O(samples * V) floats.
+/// Complexity: O(samples * E log V) for the geodesic sources (divided among `threads`) plus
+/// O(V log V) for the merge tree; memory O(threads * V).
 Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOptions& options = {},
                                      const CancelToken& cancel = CancelToken::none());
 
