@@ -1,0 +1,39 @@
+# seamd: the seam service. Multi-stage: build on Debian bookworm, run on bookworm-slim as a
+# non-root user. Build: buildah build --format docker --pull=never -t seamd:latest .
+# (see scripts/container-check.sh; --format docker keeps the HEALTHCHECK).
+
+FROM debian:bookworm-slim AS build
+RUN apt-get update \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+      g++ cmake ninja-build pkg-config \
+      libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev libspdlog-dev libeigen3-dev \
+ && rm -rf /var/lib/apt/lists/*
+WORKDIR /src
+COPY CMakeLists.txt ./
+COPY core core
+COPY api api
+COPY server server
+RUN cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WERROR=ON \
+      -DSEAM_BUILD_TESTS=OFF -DSEAM_BUILD_SERVER=ON -DSEAM_BUILD_BENCH=OFF \
+ && cmake --build build --target seamd -j "$(nproc)" \
+ && strip build/server/seamd \
+ && ./build/server/seamd --help > /dev/null
+
+FROM debian:bookworm-slim AS runtime
+# Runtime libraries only (httplib and spdlog are shared libraries in Debian; Draco is linked
+# statically); curl for the HEALTHCHECK.
+RUN apt-get update \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+      libcpp-httplib0.11 libspdlog1.10 curl ca-certificates \
+ && rm -rf /var/lib/apt/lists/* \
+ && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin seamd
+COPY --from=build /src/build/server/seamd /usr/local/bin/seamd
+USER 10001:10001
+ENV SEAMD_BIND=0.0.0.0 \
+    SEAMD_PORT=8080 \
+    SEAMD_LOG_LEVEL=info
+EXPOSE 8080
+STOPSIGNAL SIGTERM
+HEALTHCHECK --interval=10s --timeout=3s --start-period=5s --retries=3 \
+  CMD curl -fsS http://127.0.0.1:8080/healthz || exit 1
+ENTRYPOINT ["/usr/local/bin/seamd"]
