@@ -197,6 +197,7 @@ ApiResult<EncodedDraco> encode_draco(std::span<const AttributeArray> attributes,
   // Edgebreaker may split vertices it sees as non-manifold, which would change the point
   // count the glTF accessors declare; verify by decoding and fall back to sequential.
   for (bool sequential : {false, true}) {
+    if (options.preserve_point_order && !sequential) continue;
     auto encoded = encode_once(attributes, triangles, options, sequential);
     if (!encoded.ok()) return make_api_error(ApiErrorCode::kInternal, encoded.error());
     const auto& bytes = encoded->bytes;
@@ -205,7 +206,15 @@ ApiResult<EncodedDraco> encode_draco(std::span<const AttributeArray> attributes,
     limits.max_vertices = n + 1;
     auto check = decode_draco(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), limits);
     if (check.ok() && check->num_points == n && check->triangles.size() == triangles.size()) {
-      return std::move(encoded).value();
+      if (!options.preserve_point_order) return std::move(encoded).value();
+      // Lossless settings only: compare every attribute value point by point.
+      bool same = check->triangles == std::vector<core::Triangle>(triangles.begin(), triangles.end());
+      for (std::size_t i = 0; same && i < attributes.size(); ++i) {
+        auto values = read_draco_attribute(*check, encoded->unique_ids[i], attributes[i].component_type,
+                                           attributes[i].components, attributes[i].normalized, attributes[i].name);
+        same = values.ok() && values->data == attributes[i].data;
+      }
+      if (same) return std::move(encoded).value();
     }
   }
   return make_api_error(ApiErrorCode::kInternal, "Draco encoding did not preserve the vertex count");

@@ -55,6 +55,9 @@ struct DracoEncodeOptions {
   int normal_bits = 0;
   int generic_bits = 0;
   int speed = 5;  ///< draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
+  /// Keep point i as decoded point i (sequential encoding, verified). Needed when data
+  /// outside the Draco blob (morph targets) is indexed by vertex. Costs compression.
+  bool preserve_point_order = false;
 };
 
 struct EncodedDraco {
@@ -65,7 +68,8 @@ struct EncodedDraco {
 
 /// Encodes triangles over `attributes` (all with the same count; POSITION first or anywhere).
 /// The result decodes to exactly attributes[0].count points and triangles.size() faces
-/// (verified by decoding; edgebreaker falls back to sequential encoding if it would not).
+/// (verified by decoding; edgebreaker falls back to sequential encoding if it would not);
+/// with preserve_point_order, decoded point i also has the values of input element i.
 /// Errors: kInternal (draco refused: a bug in our attribute description).
 /// O(points + faces), plus one verification decode.
 ApiResult<EncodedDraco> encode_draco(std::span<const AttributeArray> attributes, std::span<const core::Triangle> triangles,

@@ -68,6 +68,8 @@ ApiResult<std::uint64_t> require_uint(const json& obj, const char* key, const st
   return *v;
 }
 
+bool is_index(const json& v) { return v.is_number_unsigned() || (v.is_number_integer() && v.get<std::int64_t>() >= 0); }
+
 const json* array_member(const json& root, const char* key) {
   const auto it = root.find(key);
   return it == root.end() ? nullptr : &*it;
@@ -608,13 +610,13 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
   }
 
   for (auto it = attrs->begin(); it != attrs->end(); ++it) {
-    if (!it->is_number_unsigned()) return malformed(pw + ".attributes." + it.key() + " must be an accessor index");
+    if (!is_index(*it)) return malformed(pw + ".attributes." + it.key() + " must be an accessor index");
     const std::uint64_t acc = it->get<std::uint64_t>();
     std::optional<std::uint64_t> uid;
     if (draco_ext != nullptr) {
       const json& ea = (*draco_ext)["attributes"];
       if (const auto u = ea.find(it.key()); u != ea.end()) {
-        if (!u->is_number_unsigned() || u->get<std::uint64_t>() > 0xffffffffu) {
+        if (!is_index(*u) || u->get<std::uint64_t>() > 0xffffffffu) {
           return malformed(pw + ": Draco attribute id for " + it.key() + " must be an unsigned integer");
         }
         uid = u->get<std::uint64_t>();
@@ -671,7 +673,7 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
       if (!target.is_object()) return malformed(pw + ".targets[" + std::to_string(t) + "] is not an object");
       std::vector<AttributeArray> arrays;
       for (auto it = target.begin(); it != target.end(); ++it) {
-        if (!it->is_number_unsigned()) return malformed(pw + ".targets: " + it.key() + " must be an accessor index");
+        if (!is_index(*it)) return malformed(pw + ".targets: " + it.key() + " must be an accessor index");
         SEAM_TRY(AttributeArray a, read_accessor(doc, it->get<std::uint64_t>(), it.key(), limits));
         if (a.count != n) return malformed(pw + ".targets[" + std::to_string(t) + "]." + it.key() + " has the wrong count");
         arrays.push_back(std::move(a));

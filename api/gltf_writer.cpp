@@ -276,8 +276,11 @@ ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::uint32_t m
     attributes.push_back(make_float_attribute("TEXCOORD_" + std::to_string(n), 2, values));
   }
   const AttributeArray indices = index_array(cut.triangles, cut.source_vertex.size());
+  WriteOptions effective = options;
+  // Morph targets stay outside the Draco blob, indexed by vertex: Draco must not reorder.
+  if (!data.targets.empty()) effective.draco_options.preserve_point_order = true;
   SEAM_TRY(json added,
-           add_primitive_data(builder, attributes, indices, cut.triangles, options, written.draco_bytes, bin));
+           add_primitive_data(builder, attributes, indices, cut.triangles, effective, written.draco_bytes, bin));
 
   json& prim = root["meshes"][mesh_index]["primitives"][primitive_index];
   prim["attributes"] = added["attributes"];

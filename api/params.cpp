@@ -114,7 +114,9 @@ ApiResult<ExtremaSpec> extrema_from_json(const json& v) {
 }
 
 ApiResult<std::uint32_t> small_index(const json& v, const std::string& name) {
-  if (v.is_number_unsigned() && v.get<std::uint64_t>() < (1u << 31)) return static_cast<std::uint32_t>(v.get<std::uint64_t>());
+  if (v.is_number_integer() && v.get<std::int64_t>() >= 0 && v.get<std::int64_t>() < (std::int64_t{1} << 31)) {
+    return static_cast<std::uint32_t>(v.get<std::int64_t>());
+  }
   return invalid(name, name + " must be a non-negative integer");
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <new>
 #include <unordered_map>
 
@@ -45,28 +46,87 @@ ApiError timeout(const char* stage) {
   return make_api_error(ApiErrorCode::kTimeout, std::string("the computation exceeded the time budget during ") + stage);
 }
 
-// Core errors name welded vertices; the contract speaks in input indices.
-ApiError map_core_error(const core::Error& error, const core::WeldResult& weld, bool vertex_elements) {
-  ApiError out = from_core(error);
-  if (vertex_elements && out.details.contains("elements")) {
-    json mapped = json::array();
-    for (const auto& e : out.details["elements"]) {
-      const auto w = e.get<std::uint32_t>();
-      mapped.push_back(w < weld.welded_to_input.size() ? weld.welded_to_input[w] : w);
-    }
-    out.details["vertices"] = std::move(mapped);
-    out.details.erase("elements");
+// The mesh the core sees, numbered canonically: welded vertices in lexicographic position
+// order, faces in order of their (rotated) vertex triples. Vertex order, face order and
+// vertex splits of the input then cannot change the seam: GLB, split-vertex GLB and Draco
+// (which reorders both) of one surface give the same result.
+struct Canonical {
+  std::vector<core::Vec3> positions;
+  std::vector<core::Triangle> triangles;
+  std::vector<std::uint32_t> input_to_vertex;  // input vertex -> canonical vertex
+  std::vector<std::uint32_t> vertex_to_input;  // canonical vertex -> smallest input index
+  std::vector<std::uint32_t> face_to_input;    // canonical face -> input triangle
+  std::vector<std::uint32_t> input_to_face;    // input triangle -> canonical face
+};
+
+Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Triangle>& input_triangles) {
+  Canonical c;
+  const std::size_t wn = weld.positions.size();
+  std::vector<std::uint32_t> order(wn);
+  for (std::uint32_t i = 0; i < wn; ++i) order[i] = i;
+  auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const auto& p = weld.positions[a];
+    const auto& q = weld.positions[b];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::uint32_t> rank(wn);
+  c.positions.resize(wn);
+  for (std::uint32_t k = 0; k < wn; ++k) {
+    rank[order[k]] = k;
+    c.positions[k] = weld.positions[order[k]];
   }
+  c.input_to_vertex.resize(weld.input_to_welded.size());
+  c.vertex_to_input.assign(wn, std::numeric_limits<std::uint32_t>::max());
+  for (std::size_t i = 0; i < weld.input_to_welded.size(); ++i) {
+    const std::uint32_t v = rank[weld.input_to_welded[i]];
+    c.input_to_vertex[i] = v;
+    c.vertex_to_input[v] = std::min(c.vertex_to_input[v], static_cast<std::uint32_t>(i));
+  }
+  std::vector<core::Triangle> rotated(input_triangles.size());
+  for (std::size_t t = 0; t < input_triangles.size(); ++t) {
+    core::Triangle tri;
+    for (int k = 0; k < 3; ++k) tri[static_cast<std::size_t>(k)] = c.input_to_vertex[input_triangles[t][static_cast<std::size_t>(k)]];
+    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+    rotated[t] = tri;
+  }
+  c.face_to_input.resize(rotated.size());
+  for (std::uint32_t t = 0; t < rotated.size(); ++t) c.face_to_input[t] = t;
+  std::stable_sort(c.face_to_input.begin(), c.face_to_input.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return rotated[a] < rotated[b]; });
+  c.input_to_face.resize(rotated.size());
+  c.triangles.resize(rotated.size());
+  for (std::uint32_t f = 0; f < rotated.size(); ++f) {
+    c.input_to_face[c.face_to_input[f]] = f;
+    c.triangles[f] = rotated[c.face_to_input[f]];
+  }
+  return c;
+}
+
+// Core errors name canonical vertices or faces; the contract speaks in input indices.
+ApiError map_core_error(const core::Error& error, const Canonical& canon, core::ErrorCode code) {
+  ApiError out = from_core(error);
+  if (!out.details.contains("elements")) return out;
+  const bool vertices = code == core::ErrorCode::kNonManifoldEdge || code == core::ErrorCode::kNonManifoldVertex ||
+                        code == core::ErrorCode::kInconsistentOrientation || code == core::ErrorCode::kNonFinitePosition;
+  const bool faces = code == core::ErrorCode::kDegenerateFace;
+  if (!vertices && !faces) return out;
+  const auto& map = vertices ? canon.vertex_to_input : canon.face_to_input;
+  json mapped = json::array();
+  for (const auto& e : out.details["elements"]) {
+    const auto w = e.get<std::uint32_t>();
+    mapped.push_back(w < map.size() ? map[w] : w);
+  }
+  out.details[vertices ? "vertices" : "faces"] = std::move(mapped);
+  out.details.erase("elements");
   return out;
 }
 
-bool elements_are_vertices(core::ErrorCode code) {
-  return code == core::ErrorCode::kNonManifoldEdge || code == core::ErrorCode::kNonManifoldVertex ||
-         code == core::ErrorCode::kInconsistentOrientation || code == core::ErrorCode::kNonFinitePosition;
-}
-
 ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, const PrimitiveData& data,
-                                                       const core::WeldResult& weld, const core::HalfedgeMesh& mesh,
+                                                       const Canonical& canon, const core::HalfedgeMesh& mesh,
                                                        const core::CancelToken& cancel) {
   const std::size_t n = data.mesh.positions.size();
   auto check = [&](std::uint32_t i, const char* what) -> core::Status {
@@ -91,7 +151,7 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
     std::vector<core::VertexId> excluded;
     for (auto i : spec.exclude) {
       if (auto s = check(i, "excluded"); !s.ok()) return out_of_range(s.error());
-      excluded.push_back(core::VertexId(weld.input_to_welded[i]));
+      excluded.push_back(core::VertexId(canon.input_to_vertex[i]));
     }
     for (auto v : *found) {
       if (std::find(excluded.begin(), excluded.end(), v) == excluded.end()) add(v);
@@ -99,7 +159,7 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
   }
   for (auto i : spec.indices) {
     if (auto s = check(i, "extremum"); !s.ok()) return out_of_range(s.error());
-    add(core::VertexId(weld.input_to_welded[i]));
+    add(core::VertexId(canon.input_to_vertex[i]));
   }
   if (!spec.positions.empty()) {
     // Snap to the nearest vertex that lies on the surface (isolated vertices cannot be terminals).
@@ -139,23 +199,23 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     t = Clock::now();
     auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
     if (!weld.ok()) return from_core(weld.error());
-    const auto triangles = core::remap_triangles(data.mesh.triangles, weld->input_to_welded);
-    auto built = core::build_halfedge_mesh(weld->positions, triangles);
-    if (!built.ok()) return map_core_error(built.error(), *weld, elements_are_vertices(built.error().code));
+    const Canonical canon = canonicalize(*weld, data.mesh.triangles);
+    auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
+    if (!built.ok()) return map_core_error(built.error(), canon, built.error().code);
     const core::HalfedgeMesh& mesh = *built;
     const core::Topology topology = core::compute_topology(mesh);
     timings["weld"] = ms_since(t);
     if (cancel.is_cancelled()) return timeout("welding");
 
     t = Clock::now();
-    SEAM_TRY(const std::vector<core::VertexId> extrema, resolve_extrema(params.extrema, data, *weld, mesh, cancel));
+    SEAM_TRY(const std::vector<core::VertexId> extrema, resolve_extrema(params.extrema, data, canon, mesh, cancel));
     timings["extrema"] = ms_since(t);
 
     t = Clock::now();
     core::SeamOptions seam_options;
     seam_options.method = params.method;
     auto seam = core::compute_seam(mesh, extrema, seam_options, cancel);
-    if (!seam.ok()) return map_core_error(seam.error(), *weld, false);
+    if (!seam.ok()) return map_core_error(seam.error(), canon, seam.error().code);
     timings["seam"] = ms_since(t);
 
     t = Clock::now();
@@ -189,10 +249,10 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     output_index.reserve(data.mesh.positions.size() * 5 / 4);
     std::vector<std::uint32_t> output_cut_vertex;
     for (std::size_t f = 0; f < data.mesh.triangles.size(); ++f) {
-      const auto corners = cut->mesh.face_vertices(core::FaceId(f));
+      const auto corners = cut->mesh.face_vertices(core::FaceId(canon.input_to_face[f]));
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t input = data.mesh.triangles[f][static_cast<std::size_t>(k)];
-        const std::uint32_t welded = weld->input_to_welded[input];
+        const std::uint32_t welded = canon.input_to_vertex[input];
         core::VertexId cv;
         for (auto c : corners) {
           if (cut->to_original[c].value() == welded) cv = c;
@@ -220,7 +280,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     }
 
     // The seam in input indices.
-    auto input_of = [&](core::VertexId v) { return weld->welded_to_input[v.index()]; };
+    auto input_of = [&](core::VertexId v) { return canon.vertex_to_input[v.index()]; };
     auto edge_pairs = [&](const std::vector<core::EdgeId>& edges) {
       json out = json::array();
       std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;

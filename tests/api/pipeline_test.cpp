@@ -1,0 +1,370 @@
+// The whole job: the same seam from GLB, split-vertex GLB and Draco GLB; the cut asset is
+// valid glTF, a disc, and keeps every attribute; errors keep their codes.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <set>
+
+#include "api/gltf_reader.h"
+#include "api/gltf_writer.h"
+#include "api/pipeline.h"
+#include "core/halfedge_mesh.h"
+#include "core/topology.h"
+#include "core/weld.h"
+#include "fixtures.h"
+#include "gltf_test_util.h"
+#include "test_data.h"
+
+namespace {
+
+using namespace seam;
+using namespace seam::api;
+using seam::test_gltf::json;
+
+using P3 = std::array<float, 3>;
+
+P3 key(const core::Vec3& p) { return {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())}; }
+
+PipelineOutput run_ok(const std::string& asset, const SeamParams& params) {
+  auto out = run_seam_pipeline(asset, AssetKind::kAuto, params, {}, core::CancelToken::none());
+  REQUIRE_MESSAGE(out.ok(), (out.ok() ? "" : out.error().message));
+  return std::move(out).value();
+}
+
+// The seam as a set of position pairs: independent of vertex numbering.
+std::set<std::pair<P3, P3>> seam_positions(const PipelineOutput& out, const PrimitiveData& input) {
+  std::set<std::pair<P3, P3>> s;
+  for (const auto& e : out.body["seam"]["edges"]) {
+    auto a = key(input.mesh.positions[e[0].get<std::size_t>()]);
+    auto b = key(input.mesh.positions[e[1].get<std::size_t>()]);
+    s.emplace(std::min(a, b), std::max(a, b));
+  }
+  return s;
+}
+
+PrimitiveData read(const std::string& bytes) {
+  auto doc = parse_asset(bytes, AssetKind::kAuto);
+  REQUIRE_MESSAGE(doc.ok(), (doc.ok() ? "" : doc.error().message));
+  auto p = read_primitive(*doc, 0, 0);
+  REQUIRE_MESSAGE(p.ok(), (p.ok() ? "" : p.error().message));
+  return std::move(p).value();
+}
+
+// Topology of an indexed primitive as stored (no welding): the cut must be a disc.
+core::Topology stored_topology(const PrimitiveData& p) {
+  auto mesh = core::build_halfedge_mesh(p.mesh.positions, p.mesh.triangles);
+  REQUIRE_MESSAGE(mesh.ok(), (mesh.ok() ? "" : mesh.error().message));
+  REQUIRE(core::check_invariants(*mesh).ok());
+  return core::compute_topology(*mesh);
+}
+
+std::string split_copy(const core::IndexedMesh& m, bool draco) {
+  // Split every vertex per face, as flat-shaded exports do.
+  core::IndexedMesh split;
+  for (const auto& t : m.triangles) {
+    core::Triangle nt;
+    for (int k = 0; k < 3; ++k) {
+      nt[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(split.positions.size());
+      split.positions.push_back(m.positions[t[static_cast<std::size_t>(k)]]);
+    }
+    split.triangles.push_back(nt);
+  }
+  auto glb = write_plain_glb(split, {}, draco);
+  REQUIRE(glb.ok());
+  return *glb;
+}
+
+}  // namespace
+
+TEST_CASE("the same seam from GLB, split-vertex GLB and Draco GLB of a real mesh; output is valid and a disc") {
+  const core::IndexedMesh soup = test_data::load_cgal("elephant");
+  const auto plain = write_plain_glb(soup);
+  const auto draco = write_plain_glb(soup, {}, true);
+  REQUIRE(plain.ok());
+  REQUIRE(draco.ok());
+  const std::string split = split_copy(soup, false);
+
+  // Extrema chosen automatically on the plain GLB, then given as positions to all three.
+  SeamParams params;
+  params.uv = core::UvMethod::kBff;
+  const PipelineOutput base = run_ok(*plain, params);
+  const PrimitiveData plain_in = read(*plain);
+  SeamParams by_position = params;
+  by_position.extrema.automatic = false;
+  for (const auto& i : base.body["seam"]["extrema"]) {
+    const auto& p = plain_in.mesh.positions[i.get<std::size_t>()];
+    by_position.extrema.positions.push_back({p.x(), p.y(), p.z()});
+  }
+  REQUIRE(by_position.extrema.positions.size() >= 2);
+  const auto reference = seam_positions(base, plain_in);
+  CHECK(!reference.empty());
+
+  for (const std::string* asset : {&*plain, &split, &*draco}) {
+    const PrimitiveData in = read(*asset);
+    const PipelineOutput out = run_ok(*asset, by_position);
+    const json& body = out.body;
+    CHECK(seam_positions(out, in) == reference);
+    CHECK(body["mesh"]["welded_vertices"] == base.body["mesh"]["welded_vertices"]);
+    CHECK(body["mesh"]["genus"] == base.body["mesh"]["genus"]);
+    CHECK(body["cut"]["euler_characteristic"] == 1);
+    CHECK(body["cut"]["boundary_loops"] == 1);
+    CHECK(body["uv"]["flipped"] == 0);
+    CHECK(body["uv"]["channel"] == 0);
+    for (const char* k : {"parse", "weld", "seam", "cut", "uv", "encode", "total"}) CHECK(body["timings_ms"].contains(k));
+    CHECK(body["draco"] == (asset == &*draco));
+    // The JSON form carries the same GLB.
+    std::vector<std::uint8_t> decoded;
+    REQUIRE(decode_base64(body["asset"]["glb_base64"].get<std::string>(), decoded));
+    CHECK(std::string(decoded.begin(), decoded.end()) == out.glb);
+
+    std::string report;
+    CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report) == 0, report);
+
+    const PrimitiveData cut = read(out.glb);
+    CHECK(cut.draco == (asset == &*draco));
+    CHECK(cut.mesh.triangles.size() == in.mesh.triangles.size());
+    // Every output vertex is an input vertex: its position is one of the input positions.
+    std::set<P3> input_positions;
+    for (const auto& p : in.mesh.positions) input_positions.insert(key(p));
+    for (const auto& p : cut.mesh.positions) CHECK(input_positions.count(key(p)) == 1);
+    if (asset != &split) {
+      // Without input splits the stored primitive is exactly the cut disc, and vertices are
+      // duplicated only along the seam: one extra copy per extra wedge.
+      const auto topo = stored_topology(cut);
+      CHECK(topo.components.size() == 1);
+      CHECK(topo.euler_characteristic() == 1);
+      CHECK(topo.boundary_loops.size() == 1);
+      CHECK(cut.mesh.positions.size() == body["cut"]["vertices"].get<std::size_t>());
+      // Cutting K edges of a surface with Euler characteristic chi into one disc adds
+      // exactly K + 1 - chi vertices (V' - (E + K) + F = 1): no needless duplicates.
+      const int chi = 2 - 2 * body["mesh"]["genus"].get<int>() - body["mesh"]["boundary_loops"].get<int>();
+      CHECK(static_cast<long>(cut.mesh.positions.size()) ==
+            body["mesh"]["welded_vertices"].get<long>() + static_cast<long>(reference.size()) + 1 - chi);
+      // The new UV set: float32 VEC2 in [0,1].
+      const auto uv = std::find_if(cut.attributes.begin(), cut.attributes.end(),
+                                   [](const AttributeArray& a) { return a.name == "TEXCOORD_0"; });
+      REQUIRE(uv != cut.attributes.end());
+      CHECK(uv->component_type == 5126);
+      CHECK(uv->components == 2);
+    } else {
+      // Welding the output by position gives the input's topology back.
+      CHECK(cut.mesh.positions.size() == in.mesh.positions.size());
+    }
+  }
+}
+
+TEST_CASE("the cut asset keeps normals, colors, two texcoord sets, skin, morph targets, a second mesh, nodes, extras") {
+  const auto sphere = fixtures::icosphere(2);
+  const core::IndexedMesh m{sphere.positions, sphere.triangles};
+  const std::size_t n = m.positions.size();
+  std::vector<float> normals, uv0, uv1, weights, morph;
+  std::vector<std::uint8_t> colors, joints;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = m.positions[i];
+    normals.insert(normals.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
+    uv0.insert(uv0.end(), {static_cast<float>(i % 7) / 7.f, static_cast<float>(i % 5) / 5.f});
+    uv1.insert(uv1.end(), {0.5f, static_cast<float>(i % 3) / 3.f});
+    weights.insert(weights.end(), {0.25f, 0.25f, 0.25f, 0.25f});
+    morph.insert(morph.end(), {0.f, 0.f, static_cast<float>(i % 4) * 0.01f});
+    colors.insert(colors.end(), {static_cast<std::uint8_t>(i * 7), static_cast<std::uint8_t>(i * 13), 200});
+    joints.insert(joints.end(), {0, 1, 2, 3});
+  }
+  AttributeArray color;
+  color.name = "COLOR_0";
+  color.component_type = 5121;
+  color.components = 3;
+  color.type = "VEC3";
+  color.normalized = true;
+  color.count = n;
+  color.data = colors;
+  AttributeArray joint = color;
+  joint.name = "JOINTS_0";
+  joint.components = 4;
+  joint.type = "VEC4";
+  joint.normalized = false;
+  joint.data = joints;
+  const std::vector<AttributeArray> extra{make_float_attribute("NORMAL", 3, normals),
+                                          make_float_attribute("TEXCOORD_0", 2, uv0),
+                                          make_float_attribute("TEXCOORD_1", 2, uv1),
+                                          color,
+                                          joint,
+                                          make_float_attribute("WEIGHTS_0", 4, weights),
+                                          make_float_attribute("_MORPH", 3, morph)};
+  auto plain = write_plain_glb(m, extra);
+  REQUIRE(plain.ok());
+  auto doc = parse_asset(*plain, AssetKind::kGlb);
+  REQUIRE(doc.ok());
+  json& j = doc->json;
+  // Turn _MORPH into a morph target, add a second mesh sharing the data, a node hierarchy,
+  // a skin and extras.
+  json& prim = j["meshes"][0]["primitives"][0];
+  const auto morph_accessor = prim["attributes"]["_MORPH"];
+  prim["attributes"].erase("_MORPH");
+  j["accessors"][morph_accessor.get<std::size_t>()]["min"] = {0, 0, 0};
+  j["accessors"][morph_accessor.get<std::size_t>()]["max"] = {0, 0, 0.03f};
+  prim["targets"] = {{{"POSITION", morph_accessor}}};
+  prim["extras"] = {{"author", "test"}};
+  j["meshes"][0]["weights"] = {0.5};
+  j["meshes"].push_back({{"name", "second"}, {"primitives", {{{"attributes", {{"POSITION", prim["attributes"]["POSITION"]}}},
+                                                              {"indices", prim["indices"]}}}}});
+  j["nodes"] = {{{"name", "root"}, {"children", {1, 2, 3, 4, 5, 6}}},
+                {{"name", "body"}, {"mesh", 0}, {"skin", 0}},
+                {{"name", "other"}, {"mesh", 1}, {"translation", {3, 0, 0}}},
+                {{"name", "j0"}}, {{"name", "j1"}}, {{"name", "j2"}}, {{"name", "j3"}}};
+  j["skins"] = {{{"joints", {3, 4, 5, 6}}}};
+  j["extras"] = {{"pipeline", "seam-test"}, {"nested", {{"a", 1}}}};
+  j["scenes"][0]["nodes"] = {0};
+  std::vector<std::uint8_t> bin = doc->buffers[0];
+  const std::string input = encode_glb(j, bin);
+  std::string report;
+  REQUIRE_MESSAGE(test_gltf::validator_errors(input, report, "attrs_in.glb") == 0, report);
+  const PrimitiveData in = read(input);
+
+  for (bool draco : {false, true}) {
+    CAPTURE(draco);
+    SeamParams params;
+    params.extrema.automatic = false;
+    params.extrema.indices = {0, 3, 5, 9};
+    params.draco = draco;
+    const PipelineOutput out = run_ok(input, params);
+    CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "attrs_out.glb") == 0, report);
+    auto out_doc = parse_asset(out.glb, AssetKind::kGlb);
+    REQUIRE(out_doc.ok());
+    const json& o = out_doc->json;
+    CHECK(o["nodes"] == j["nodes"]);
+    CHECK(o["skins"] == j["skins"]);
+    CHECK(o["extras"] == j["extras"]);
+    CHECK(o["meshes"][1] == j["meshes"][1]);
+    CHECK(o["meshes"][0]["weights"] == j["meshes"][0]["weights"]);
+    const json& op = o["meshes"][0]["primitives"][0];
+    CHECK(op["extras"]["author"] == "test");
+    CHECK(op["extras"]["seam"]["edges"] == out.body["seam"]["edges"]);
+    CHECK(op["extras"]["seam"]["uv_channel"] == 2);
+    CHECK(op.contains("extensions") == draco);
+    CHECK((o.contains("extensionsRequired") && o["extensionsRequired"] == json::array({"KHR_draco_mesh_compression"})) == draco);
+    // The second mesh still reads as the original sphere.
+    auto second = read_primitive(*out_doc, 1, 0);
+    REQUIRE(second.ok());
+    CHECK(second->mesh.triangles == in.mesh.triangles);
+
+    auto cut = read_primitive(*out_doc, 0, 0);
+    REQUIRE(cut.ok());
+    CHECK(cut->draco == draco);
+    CHECK(cut->mesh.positions.size() > n);  // the seam duplicated some vertices
+    CHECK(cut->mesh.positions.size() == out.body["cut"]["vertices"].get<std::size_t>());
+    // Every output vertex carries all attributes of the input vertex at its position, bit-exactly.
+    std::map<P3, std::size_t> source;
+    for (std::size_t i = 0; i < n; ++i) source[key(in.mesh.positions[i])] = i;
+    std::map<std::string, const AttributeArray*> out_attr, in_attr;
+    for (const auto& a : cut->attributes) out_attr[a.name] = &a;
+    for (const auto& a : in.attributes) in_attr[a.name] = &a;
+    for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "JOINTS_0", "WEIGHTS_0"}) {
+      CAPTURE(name);
+      REQUIRE(out_attr.count(name) == 1);
+      const AttributeArray& a = *out_attr[name];
+      const AttributeArray& b = *in_attr[name];
+      CHECK(a.component_type == b.component_type);
+      CHECK(a.normalized == b.normalized);
+      std::size_t mismatches = 0;
+      for (std::size_t v = 0; v < cut->mesh.positions.size(); ++v) {
+        const std::size_t s = source.at(key(cut->mesh.positions[v]));
+        mismatches += std::memcmp(a.data.data() + v * a.element_size(), b.data.data() + s * b.element_size(),
+                                  a.element_size()) != 0;
+      }
+      CHECK(mismatches == 0);
+    }
+    REQUIRE(out_attr.count("TEXCOORD_2") == 1);
+    REQUIRE(cut->targets.size() == 1);
+    REQUIRE(cut->targets[0].size() == 1);
+    const AttributeArray& target = cut->targets[0][0];
+    for (std::size_t v = 0; v < cut->mesh.positions.size(); ++v) {
+      const std::size_t s = source.at(key(cut->mesh.positions[v]));
+      CHECK(std::memcmp(target.data.data() + v * 12, in.targets[0][0].data.data() + s * 12, 12) == 0);
+    }
+  }
+}
+
+TEST_CASE("pipeline errors keep their codes") {
+  const auto sphere = fixtures::icosphere(1);
+  auto glb = write_plain_glb(core::IndexedMesh{sphere.positions, sphere.triangles});
+  REQUIRE(glb.ok());
+  SeamParams params;
+  params.extrema.automatic = false;
+  params.extrema.indices = {0, 1000};
+  auto out = run_seam_pipeline(*glb, AssetKind::kAuto, params, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kExtremumOutOfRange);
+  CHECK(http_status(out.error().code) == 422);
+
+  // Three triangles on one edge: non-manifold, reported in input vertex indices.
+  core::IndexedMesh fin{{core::Vec3(0, 0, 0), core::Vec3(1, 0, 0), core::Vec3(0, 1, 0), core::Vec3(0, -1, 0),
+                         core::Vec3(0, 0, 1)},
+                        {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}};
+  auto fin_glb = write_plain_glb(fin);
+  REQUIRE(fin_glb.ok());
+  params.extrema.indices = {2};
+  out = run_seam_pipeline(*fin_glb, AssetKind::kAuto, params, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK((out.error().code == ApiErrorCode::kNonManifoldEdge || out.error().code == ApiErrorCode::kInconsistentOrientation));
+
+  PipelineLimits small;
+  small.max_faces = 10;
+  out = run_seam_pipeline(*glb, AssetKind::kAuto, SeamParams{}, small, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kMeshTooLarge);
+
+  core::CancelToken cancelled;
+  cancelled.cancel();
+  out = run_seam_pipeline(*glb, AssetKind::kAuto, SeamParams{}, {}, cancelled);
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kTimeout);
+}
+
+TEST_CASE("parameters from JSON and from the query string agree") {
+  auto a = params_from_json(json{{"extrema", {12, 345, 678}}, {"method", "mst"}, {"uv", "none"}, {"output", "glb"},
+                                 {"draco", true}, {"weld_epsilon", 0.001}, {"mesh", 1}, {"primitive", 2}});
+  auto b = params_from_query({{"extrema", "12,345,678"}, {"method", "mst"}, {"uv", "none"}, {"output", "glb"},
+                              {"draco", "true"}, {"weld_epsilon", "0.001"}, {"mesh", "1"}, {"primitive", "2"}});
+  for (auto* p : {&a, &b}) {
+    REQUIRE(p->ok());
+    CHECK(!(*p)->extrema.automatic);
+    CHECK((*p)->extrema.indices == std::vector<std::uint32_t>{12, 345, 678});
+    CHECK((*p)->method == core::SeamMethod::kMst);
+    CHECK(!(*p)->uv.has_value());
+    CHECK((*p)->output == OutputFormat::kGlb);
+    CHECK((*p)->draco == true);
+    CHECK((*p)->weld_epsilon == doctest::Approx(0.001));
+    CHECK((*p)->mesh == 1);
+    CHECK((*p)->primitive == 2);
+  }
+  auto defaults = params_from_json(json::object());
+  REQUIRE(defaults.ok());
+  CHECK(defaults->extrema.automatic);
+  CHECK(defaults->method == core::SeamMethod::kSkeleton);
+  auto positions = params_from_json(json{{"extrema", {{{"position", {0.1, 0.2, 0.3}}}, 7}}});
+  REQUIRE(positions.ok());
+  CHECK(positions->extrema.positions.size() == 1);
+  CHECK(positions->extrema.indices == std::vector<std::uint32_t>{7});
+  auto with_exclude = params_from_json(json{{"extrema", {{"auto", true}, {"include", {4}}, {"exclude", {9}}}}});
+  REQUIRE(with_exclude.ok());
+  CHECK(with_exclude->extrema.automatic);
+  CHECK(with_exclude->extrema.exclude == std::vector<std::uint32_t>{9});
+
+  for (const json& bad : {json{{"extrema", {-1}}}, json{{"extrema", "some"}}, json{{"method", "best"}},
+                          json{{"uv", 3}}, json{{"weld_epsilon", -1}}, json{{"draco", "yes"}}, json{{"typo", 1}},
+                          json{{"extrema", json::array()}}, json{{"extrema", {{{"position", {1, 2}}}}}}}) {
+    CAPTURE(bad.dump());
+    auto r = params_from_json(bad);
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == ApiErrorCode::kInvalidParameter);
+  }
+  for (const auto& bad : std::vector<std::vector<std::pair<std::string, std::string>>>{
+           {{"extrema", "1,,2"}}, {{"extrema", "x"}}, {{"mesh", "-1"}}, {{"weld_epsilon", "1e"}},
+           {{"method", "mst"}, {"method", "greedy"}}, {{"nope", "1"}}}) {
+    auto r = params_from_query(bad);
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == ApiErrorCode::kInvalidParameter);
+  }
+}
