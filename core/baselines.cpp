@@ -275,7 +275,14 @@ Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& grap
   }
   // With positive weights the edges already form a tree; zero-weight (virtual) edges can tie
   // into a cycle, which the forest step removes without touching a terminal's only edge.
-  const auto tree_edges = pruned_spanning_forest(mesh, edges, terminals, edge_weights);
+  // Nothing is pruned: with a contracted graph (see seam.cpp) a path ends on a vertex that
+  // the graph never names, which must stay.
+  std::vector<VertexId> ends;
+  for (EdgeId e : edges) {
+    ends.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+    ends.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+  }
+  const auto tree_edges = pruned_spanning_forest(mesh, edges, ends, edge_weights);
   return make_steiner_tree(mesh, tree_edges, terminals, edge_weights);
 }
 

@@ -7,7 +7,10 @@
 //   apex joined by zero-weight edges (core/submesh.h). The apex is an ordinary terminal, so
 //   "the whole boundary is one terminal, touched at one point" (§2) holds for skeleton and
 //   optimal, whose terminals are leaves. The virtual edges are dropped; where the seam meets
-//   the boundary, that boundary vertex is reported among the terminals.
+//   the boundary, that boundary vertex is reported among the terminals. Real edges at the
+//   boundary carry a penalty larger than any seam (see seam_on_component), so every method
+//   meets the boundary with as few edges as possible: one, unless an extremum can only be
+//   reached along the boundary. Lengths are always reported unpenalised.
 // - An extremum already on the boundary of the (cut) component is on the cut: it is kept in
 //   `extrema` and `terminals` but needs no seam, so it is not passed to the method.
 // - Fewer than two terminals on a closed genus-0 component: the seam is the shortest path
@@ -200,7 +203,23 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
     terminals.insert(terminals.end(), coned.apexes.begin(), coned.apexes.end());
   }
   const HalfedgeMesh& work = has_boundary ? coned.mesh : disc;
-  const std::span<const double> weights = has_boundary ? std::span<const double>(coned.edge_weights) : std::span<const double>();
+  std::vector<double> penalized;
+  if (has_boundary) {
+    // Every real edge at a boundary vertex costs P more, P above any tree's length: a tree
+    // then first minimises how many edges meet the boundary (one: the apex's attachment, so
+    // no path grazes the boundary and the boundary terminal is touched at one point by one
+    // edge, §4.1), then its length. Without it a path between two extrema could run through
+    // the zero-weight apex (a shortcut across the hole) or graze the boundary elsewhere.
+    penalized = coned.edge_weights;
+    double total = 1.0;
+    for (double w : penalized) total += w;
+    for (std::size_t e = 0; e < work.num_edges(); ++e) {
+      if (coned.is_virtual(EdgeId(e))) continue;
+      const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+      if (disc.is_boundary(work.tail(h)) || disc.is_boundary(work.head(h))) penalized[e] += total;
+    }
+  }
+  const std::span<const double> weights = has_boundary ? std::span<const double>(penalized) : std::span<const double>();
   stats.preprocess_ms += ms_since(start);
 
   if (!has_boundary && terminals.size() < 2) {
