@@ -30,11 +30,13 @@ pid=""
 cleanup() { [[ -n "$pid" ]] && kill "$pid" 2> /dev/null; wait 2> /dev/null; rm -rf "$work"; }
 trap cleanup EXIT
 
-# name  source  subdivisions  (the query below picks extrema automatically, UV by default)
-inputs=("fandisk-13k fandisk 0" "dino-125k dino 2")
-query="${SEAM_BENCH_QUERY:-}"
+# name  source  subdivisions  wrk-seconds. The job: automatic extrema, the MST method, no UV
+# (override with SEAM_BENCH_QUERY / SEAM_BENCH_CLI_ARGS, keeping the two the same job).
+inputs=("fandisk-13k fandisk 0 $duration" "dino-125k dino 2 $((duration * 4))")
+query="${SEAM_BENCH_QUERY:-?method=mst&uv=none}"
+cli_args="${SEAM_BENCH_CLI_ARGS:---method mst --uv none}"
 for spec in "${inputs[@]}"; do
-  read -r name src sub <<< "$spec"
+  read -r name src sub _ <<< "$spec"
   python3 "$here/scripts/off2glb.py" "$meshes/$src.off" "$work/$name.glb" --subdivide "$sub" > /dev/null
 done
 
@@ -65,14 +67,14 @@ stop_server() {
   echo "$hwm"
 }
 
-echo "seamd load benchmark: $(nproc) cores, --workers $workers, wrk ${duration}s per row, $(date -u +%FT%TZ)"
+echo "seamd load benchmark: $(nproc) cores, --workers $workers, query '$query', $(date -u +%FT%TZ)"
 printf '%-12s %5s %9s %9s %9s %9s %7s %8s\n' mesh conc req/s p50_ms p99_ms mean_ms 503s rss_MB
 for spec in "${inputs[@]}"; do
-  read -r name _ _ <<< "$spec"
+  read -r name _ _ secs_row <<< "$spec"
   for conc in 1 8 64; do
     start_server
     threads=$(( conc < 2 ? 1 : 2 ))
-    out=$(BODY_FILE="$work/$name.glb" wrk -t"$threads" -c"$conc" -d"${duration}s" --timeout 300s \
+    out=$(BODY_FILE="$work/$name.glb" wrk -t"$threads" -c"$conc" -d"${secs_row}s" --timeout 300s \
             -s "$work/post.lua" "http://127.0.0.1:$port/seam$query" 2>&1 | grep '^RESULT' || true)
     rss=$(stop_server)
     read -r _ reqs secs non2xx errs p50 p99 mean <<< "$out"
@@ -86,11 +88,12 @@ echo
 echo "HTTP vs CLI at concurrency 1 (same GLB, same parameters; mean of 5 runs):"
 printf '%-12s %10s %10s %10s %8s\n' mesh cli_ms http_ms pipeline_ms overhead
 for spec in "${inputs[@]}"; do
-  read -r name _ _ <<< "$spec"
+  read -r name _ _ _ <<< "$spec"
   cli_total=0
   for _ in 1 2 3 4 5; do
     t0=$(date +%s%N)
-    "$seamd" seam --mesh "$work/$name.glb" > "$work/cli.json"
+    # shellcheck disable=SC2086
+    "$seamd" seam --mesh "$work/$name.glb" $cli_args > "$work/cli.json"
     cli_total=$(( cli_total + $(date +%s%N) - t0 ))
   done
   start_server

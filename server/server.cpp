@@ -238,18 +238,22 @@ struct Server::Impl {
     const auto enqueued = Clock::now();
     const bool admitted = pool.try_submit([this, state, limits] {
       state->started = Clock::now();
+      // `finished` is written before the promise is fulfilled: the waiting thread reads it.
+      auto fulfil = [&state](api::ApiResult<api::PipelineOutput> result) {
+        state->finished = Clock::now();
+        state->promise.set_value(std::move(result));
+      };
       try {
         if (state->token.is_cancelled()) {
-          state->promise.set_value(make_api_error(ApiErrorCode::kTimeout, "the time budget ran out while queued"));
+          fulfil(make_api_error(ApiErrorCode::kTimeout, "the time budget ran out while queued"));
         } else {
-          state->promise.set_value(job(state->asset, state->kind, state->params, limits, state->token));
+          fulfil(job(state->asset, state->kind, state->params, limits, state->token));
         }
       } catch (const std::bad_alloc&) {
-        state->promise.set_value(make_api_error(ApiErrorCode::kInternal, "out of memory while computing the seam"));
+        fulfil(make_api_error(ApiErrorCode::kInternal, "out of memory while computing the seam"));
       } catch (const std::exception& e) {
-        state->promise.set_value(make_api_error(ApiErrorCode::kInternal, std::string("unexpected exception: ") + e.what()));
+        fulfil(make_api_error(ApiErrorCode::kInternal, std::string("unexpected exception: ") + e.what()));
       }
-      state->finished = Clock::now();
       std::lock_guard lock(jobs_mutex);
       live_jobs.erase(state.get());
       jobs_done.notify_all();
@@ -351,6 +355,7 @@ struct Server::Impl {
     http.set_read_timeout(config.read_timeout_s, 0);
     http.set_write_timeout(config.write_timeout_s, 0);
     http.set_keep_alive_timeout(config.keep_alive_timeout_s);
+    http.set_keep_alive_max_count(1000);  // httplib's default of 5 costs a reconnect every 5 requests
     const unsigned threads = effective_http_threads(config);
     http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
 
@@ -444,7 +449,7 @@ struct Server::Impl {
     for (const auto& [name, file] : req.files) bytes_in += file.content.size();
     metrics.record(route, res.status, ms / 1000.0, bytes_in, res.body.size());
     if (!log->should_log(spdlog::level::info)) return;
-    nlohmann::json line{{"ts", std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()},
+    nlohmann::ordered_json line{{"ts", std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()},
                         {"level", res.status >= 500 && res.status != 503 && res.status != 504 ? "error" : "info"},
                         {"request_id", res.get_header_value(kRequestIdHeader)},
                         {"method", req.method},
@@ -459,7 +464,7 @@ struct Server::Impl {
     if (record.compute_ms >= 0) line["compute_ms"] = record.compute_ms;
     if (!record.error_code.empty()) line["error_code"] = record.error_code;
     // Lossy UTF-8 replacement: a hostile path must not make the log line throw.
-    log->info(line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    log->info(line.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
   }
 
   void start_drain_watchdog() {
