@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set-up command 1: install what is missing, build, write the bundled sample mesh and start
-# seamd on 127.0.0.1:8080 (override with SEAM_PORT / SEAM_BIND). Ctrl-C stops it.
+# seamd on 127.0.0.1:8080 (override with SEAMD_PORT / SEAMD_BIND). Ctrl-C stops it.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install-deps.sh"
@@ -8,8 +8,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seamd="$root/build/release/server/seamd"
 sample="$root/build/sample.glb"
 "$seamd" sample --out "$sample" >/dev/null
-port="${SEAM_PORT:-8080}"
-bind="${SEAM_BIND:-127.0.0.1}"
+port="${SEAMD_PORT:-8080}"
+bind="${SEAMD_BIND:-127.0.0.1}"
 cat <<MSG
 
 seamd is starting on http://$bind:$port  (Ctrl-C to stop)
