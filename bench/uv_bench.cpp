@@ -3,7 +3,8 @@
 // cut by each seam method. Prints tables; asserts nothing.
 //
 //   uv_bench            all sections
-//   uv_bench quick      skips the ~1M-face sizes
+//   uv_bench quick      skips the ~1M-face sizes and most seam meshes
+//   uv_bench seams      only the seam table
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,8 +14,11 @@
 #include <vector>
 
 #include "api/mesh_io.h"
+#include "core/cut.h"
+#include "core/extrema.h"
 #include "core/halfedge_mesh.h"
 #include "core/parameterize.h"
+#include "core/seam.h"
 #include "core/topology.h"
 #include "core/weld.h"
 
@@ -115,8 +119,78 @@ void row(const std::string& name, const HalfedgeMesh& mesh, UvMethod method) {
 
 }  // namespace
 
+const char* seam_method_name(SeamMethod m) {
+  switch (m) {
+    case SeamMethod::kSkeleton:
+      return "skeleton";
+    case SeamMethod::kMst:
+      return "mst";
+    case SeamMethod::kGreedy:
+      return "greedy";
+    case SeamMethod::kOptimal:
+      return "optimal";
+  }
+  return "?";
+}
+
+// Closed protrusion meshes: automatic extrema, each seam method, cut, then flatten.
+void seam_section(bool quick) {
+  std::printf("\n== closed meshes cut by each seam (automatic extrema), then flattened\n");
+  std::printf("%-12s %6s %-9s %4s %-5s %8s %9s %8s %8s %8s %7s\n", "mesh", "faces", "seam", "ext", "uv", "ms",
+              "area", "area_geo", "angle", "L2", "flips");
+  const char* names_full[] = {"hand", "camel", "dino", "armadillo", "elephant", "homer", "bear", "cow", "man"};
+  const char* names_quick[] = {"hand", "camel", "elephant"};
+  std::vector<const char*> names(quick ? std::begin(names_quick) : std::begin(names_full),
+                                 quick ? std::end(names_quick) : std::end(names_full));
+  for (const char* name : names) {
+    IndexedMesh soup;
+    HalfedgeMesh mesh;
+    if (!load(name, soup) || !build(soup, mesh)) continue;
+    auto extrema = find_extrema(mesh);
+    if (!extrema.ok()) {
+      std::printf("%-12s extrema failed: %s\n", name, extrema.error().message.c_str());
+      continue;
+    }
+    for (SeamMethod sm : {SeamMethod::kSkeleton, SeamMethod::kMst, SeamMethod::kGreedy, SeamMethod::kOptimal}) {
+      auto seam = compute_seam(mesh, *extrema, {.method = sm});
+      if (!seam.ok()) {
+        std::printf("%-12s %6zu %-9s %4zu  seam error: %s\n", name, mesh.num_faces(), seam_method_name(sm),
+                    extrema->size(), seam.error().message.c_str());
+        continue;
+      }
+      std::vector<EdgeId> edges = seam->seam_edges;
+      edges.insert(edges.end(), seam->cut_graph_edges.begin(), seam->cut_graph_edges.end());
+      auto cut = cut_along_edges(mesh, edges);
+      if (!cut.ok()) {
+        std::printf("%-12s cut error: %s\n", name, cut.error().message.c_str());
+        continue;
+      }
+      for (UvMethod um : kMethods) {
+        const auto t0 = std::chrono::steady_clock::now();
+        auto r = parameterize(cut->mesh, {.method = um});
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (!r.ok()) {
+          std::printf("%-12s %6zu %-9s %4zu %-5s  error: %s\n", name, mesh.num_faces(), seam_method_name(sm),
+                      extrema->size(), uv_method_name(um), r.error().message.c_str());
+          continue;
+        }
+        const Distortion& d = r->distortion;
+        std::printf("%-12s %6zu %-9s %4zu %-5s %8.1f %9.3f %8.3f %8.3f %8.3f %7zu\n", name, mesh.num_faces(),
+                    seam_method_name(sm), extrema->size(), uv_method_name(r->method_used), ms, d.area,
+                    d.area_geometric, d.angle, d.stretch_l2, d.flipped);
+        std::fflush(stdout);
+      }
+    }
+  }
+}
+
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "quick") == 0;
+  const bool seams_only = argc > 1 && std::strcmp(argv[1], "seams") == 0;
+  if (seams_only) {
+    seam_section(false);
+    return 0;
+  }
   std::printf("== real CGAL discs (1 boundary loop, genus 0); ms = parameterize() incl. packing+measuring\n");
   header();
   for (const char* name : {"nefertiti", "patch-01", "three_peaks", "mushroom", "lion-head", "mannequin-devil"}) {
@@ -146,5 +220,6 @@ int main(int argc, char** argv) {
       for (UvMethod m : kMethods) row("heightfield/" + std::to_string(n), mesh, m);
     }
   }
+  seam_section(quick);
   return 0;
 }

@@ -35,14 +35,6 @@ double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
   return 0.5 * (u.x() * v.y() - u.y() * v.x());
 }
 
-std::size_t count_flipped(const DiscPatch& patch, const std::vector<Vec2>& uv) {
-  std::size_t flipped = 0;
-  for (const Triangle& t : patch.triangles) {
-    if (!(signed_area(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) ++flipped;
-  }
-  return flipped;
-}
-
 struct Chart {
   std::vector<Vec2> uv;  // per patch vertex, at 3D scale, min corner at the origin
   Vec2 size = Vec2::Zero();
@@ -139,11 +131,14 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
       }
       case UvMethod::kBff: {
         SEAM_TRY(uv, flatten_bff(patch, cancel));
+        repair_flips(patch, uv);
         break;
       }
       case UvMethod::kArap: {
         SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel));
+        repair_flips(patch, start_uv);
         SEAM_TRY(uv, flatten_arap(patch, start_uv, options.arap_iterations, cancel));
+        repair_flips(patch, uv);
         // ARAP's local/global steps have no flip guarantee; never trade a clean start for flips.
         if (count_flipped(patch, uv) > count_flipped(patch, start_uv)) {
           uv = std::move(start_uv);
@@ -161,30 +156,16 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
   const double inv = fit > 0 ? 1.0 / fit : 1.0;
 
   // The stored UVs are float32: round here so that what we measure is what ships.
-  // The rounded values go through float storage: with GCC 12 at -O3 a direct
-  // double->float->double cast in this loop was observed to leave the doubles unrounded
-  // (the test checks that every stored value is exactly a float).
-  VertexData<Vec2> exact(disc_mesh.num_vertices(), Vec2::Zero());
-  std::vector<float> stored(2 * disc_mesh.num_vertices(), 0.0f);
+  // The stored UVs are float32: round here so that what we measure is what ships.
+  result.uv.assign(disc_mesh.num_vertices(), Vec2::Zero());
   for (std::size_t c = 0; c < patches.size(); ++c) {
     const DiscPatch& patch = patches[c];
-    for (std::size_t v = 0; v < patch.num_vertices(); ++v) {
-      const Vec2 p = ((charts[c].uv[v] + charts[c].offset) * inv).cwiseMax(0.0).cwiseMin(1.0);
-      const VertexId id = patch.to_mesh[v];
-      exact[id] = p;
-      stored[2 * id.index()] = static_cast<float>(p.x());
-      stored[2 * id.index() + 1] = static_cast<float>(p.y());
-    }
-  }
-  result.uv.assign(disc_mesh.num_vertices(), Vec2::Zero());
-  for (std::size_t v = 0; v < disc_mesh.num_vertices(); ++v) {
-    result.uv[VertexId(v)] = Vec2(double{stored[2 * v]}, double{stored[2 * v + 1]});
-  }
-  for (std::size_t f = 0; f < disc_mesh.num_faces(); ++f) {
-    const auto vs = disc_mesh.face_vertices(FaceId(f));
-    const bool was_valid = signed_area(exact[vs[0]], exact[vs[1]], exact[vs[2]]) > 0;
-    const bool is_valid = signed_area(result.uv[vs[0]], result.uv[vs[1]], result.uv[vs[2]]) > 0;
-    if (was_valid && !is_valid) ++result.float32_degenerate;
+    std::vector<Vec2>& uv = charts[c].uv;
+    for (Vec2& p : uv) p = ((p + charts[c].offset) * inv).cwiseMax(0.0).cwiseMin(1.0);
+    const Float32Rounding rounding = round_to_float32(patch, uv);
+    result.float32_degenerate += rounding.degenerate;
+    result.float32_unrepaired += rounding.remaining;
+    for (std::size_t v = 0; v < patch.num_vertices(); ++v) result.uv[patch.to_mesh[v]] = uv[v];
   }
   result.distortion = measure_distortion(disc_mesh, result.uv);
   return result;

@@ -48,8 +48,11 @@ struct UvResult {
                         ///< Isolated vertices get (0, 0).
   Distortion distortion;  ///< measured on the stored (float32-rounded) UVs
   /// Triangles positive in double precision that became degenerate or flipped by rounding to
-  /// float32 (they are also in distortion.flipped).
+  /// float32. Each gets a one-ulp nudge of a corner when that fixes it without harming its
+  /// neighbours; float32_unrepaired counts those still non-positive (they are also in
+  /// distortion.flipped).
   std::size_t float32_degenerate = 0;
+  std::size_t float32_unrepaired = 0;
   std::size_t charts = 0;  ///< connected components flattened
   UvMethod method_used = UvMethod::kBff;  ///< differs from the request only as kArap documents
   double solve_ms = 0;     ///< flattening time (all charts), without packing and measuring

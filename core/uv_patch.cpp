@@ -118,3 +118,177 @@ std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t) 
 }
 
 }  // namespace seam::core
+
+namespace seam::core {
+
+namespace {
+
+double signed_area_2x(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const Vec2 u = b - a;
+  const Vec2 v = c - a;
+  return u.x() * v.y() - u.y() * v.x();
+}
+
+}  // namespace
+
+std::size_t count_flipped(const DiscPatch& patch, const std::vector<Vec2>& uv) {
+  std::size_t flipped = 0;
+  for (const Triangle& t : patch.triangles) {
+    if (!(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) ++flipped;
+  }
+  return flipped;
+}
+
+std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds) {
+  std::size_t flipped = count_flipped(patch, uv);
+  if (flipped == 0) return 0;
+  const std::size_t n = patch.num_vertices();
+  // Vertex -> incident triangles, CSR.
+  std::vector<std::uint32_t> offset(n + 1, 0);
+  for (const Triangle& t : patch.triangles) {
+    for (std::uint32_t v : t) ++offset[v + 1];
+  }
+  for (std::size_t v = 0; v < n; ++v) offset[v + 1] += offset[v];
+  std::vector<std::uint32_t> star(offset[n]);
+  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    for (std::uint32_t v : patch.triangles[t]) star[fill[v]++] = static_cast<std::uint32_t>(t);
+  }
+  auto bad_in_star = [&](std::uint32_t v) {
+    std::size_t bad = 0;
+    for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
+      const Triangle& t = patch.triangles[star[k]];
+      if (!(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) ++bad;
+    }
+    return bad;
+  };
+
+  std::vector<std::uint8_t> mark(n, 0);
+  std::vector<std::uint32_t> candidates;
+  for (const Triangle& t : patch.triangles) {
+    if (signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0) continue;
+    for (std::uint32_t v : t) {
+      if (!mark[v]) {
+        mark[v] = 1;
+        candidates.push_back(v);
+      }
+    }
+  }
+  for (int round = 0; round < rounds && flipped > 0; ++round) {
+    for (std::uint32_t v : candidates) {
+      const std::size_t before = bad_in_star(v);
+      if (before == 0) continue;
+      Vec2 average = Vec2::Zero();
+      std::size_t count = 0;
+      for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
+        for (std::uint32_t w : patch.triangles[star[k]]) {
+          if (w != v) {
+            average += uv[w];
+            ++count;
+          }
+        }
+      }
+      if (count == 0) continue;
+      average /= static_cast<double>(count);
+      const Vec2 old = uv[v];
+      for (const Vec2& candidate : {average, Vec2(0.5 * (old + average)), Vec2(0.75 * old + 0.25 * average)}) {
+        uv[v] = candidate;
+        if (bad_in_star(v) < before) break;
+        uv[v] = old;
+      }
+    }
+    flipped = count_flipped(patch, uv);
+    // Grow the region by one ring: a fold can need its neighbours to make room.
+    const std::size_t current = candidates.size();
+    for (std::size_t i = 0; i < current; ++i) {
+      const std::uint32_t v = candidates[i];
+      for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
+        for (std::uint32_t w : patch.triangles[star[k]]) {
+          if (!mark[w]) {
+            mark[w] = 1;
+            candidates.push_back(w);
+          }
+        }
+      }
+    }
+  }
+  return flipped;
+}
+
+}  // namespace seam::core
+
+#include <cmath>
+
+namespace seam::core {
+
+Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) {
+  std::vector<double> before(patch.triangles.size());
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Triangle& tri = patch.triangles[t];
+    before[t] = signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]);
+  }
+  // Through float storage: with GCC 12 at -O3 a direct double->float->double cast in a loop
+  // was observed to leave the doubles unrounded (the tests check every value is a float).
+  std::vector<float> stored(2 * uv.size());
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    stored[2 * v] = static_cast<float>(uv[v].x());
+    stored[2 * v + 1] = static_cast<float>(uv[v].y());
+  }
+  for (std::size_t v = 0; v < uv.size(); ++v) uv[v] = Vec2(double{stored[2 * v]}, double{stored[2 * v + 1]});
+
+  Float32Rounding out;
+  std::vector<std::uint32_t> bad;
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Triangle& tri = patch.triangles[t];
+    if (before[t] > 0 && !(signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0)) {
+      bad.push_back(static_cast<std::uint32_t>(t));
+    }
+  }
+  out.degenerate = bad.size();
+  if (bad.empty()) return out;
+
+  const std::size_t n = patch.num_vertices();
+  std::vector<std::uint32_t> offset(n + 1, 0);
+  for (const Triangle& t : patch.triangles) {
+    for (std::uint32_t v : t) ++offset[v + 1];
+  }
+  for (std::size_t v = 0; v < n; ++v) offset[v + 1] += offset[v];
+  std::vector<std::uint32_t> star(offset[n]);
+  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    for (std::uint32_t v : patch.triangles[t]) star[fill[v]++] = static_cast<std::uint32_t>(t);
+  }
+  auto star_ok = [&](std::uint32_t v) {
+    for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
+      const Triangle& t = patch.triangles[star[k]];
+      if (before[star[k]] > 0 && !(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) return false;
+    }
+    return true;
+  };
+  auto step = [](double x, int dir) {
+    if (dir == 0) return x;
+    const float f = std::nextafter(static_cast<float>(x), dir > 0 ? 2.0f : -1.0f);
+    return static_cast<double>(std::clamp(f, 0.0f, 1.0f));
+  };
+  for (std::uint32_t t : bad) {
+    const Triangle& tri = patch.triangles[t];
+    if (signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0) continue;  // fixed by a neighbour's nudge
+    bool fixed = false;
+    for (int corner = 0; corner < 3 && !fixed; ++corner) {
+      const std::uint32_t v = tri[corner];
+      const Vec2 old = uv[v];
+      for (int dx = -1; dx <= 1 && !fixed; ++dx) {
+        for (int dy = -1; dy <= 1 && !fixed; ++dy) {
+          if (dx == 0 && dy == 0) continue;
+          uv[v] = Vec2(step(old.x(), dx), step(old.y(), dy));
+          fixed = star_ok(v);
+          if (!fixed) uv[v] = old;
+        }
+      }
+    }
+    if (!fixed) ++out.remaining;
+  }
+  return out;
+}
+
+}  // namespace seam::core

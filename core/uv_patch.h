@@ -48,3 +48,34 @@ Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch);
 std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t);
 
 }  // namespace seam::core
+
+namespace seam::core {
+
+/// Triangles of `patch` whose signed UV area is not positive.
+std::size_t count_flipped(const DiscPatch& patch, const std::vector<Vec2>& uv);
+
+/// Local repair of isolated folds: moves vertices of flipped triangles (and, in later rounds,
+/// their neighbours) to the uniform average of their neighbours, or halfway there, whenever
+/// that lowers the number of flipped triangles around the vertex and creates none. A vertex
+/// inside the kernel of its one-ring polygon ends up unfolded; this is the untangling step of
+/// mesh smoothing, applied only where the map folded. Returns the flipped count afterwards
+/// (never more than before). O(rounds x affected area).
+std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds = 10);
+
+}  // namespace seam::core
+
+namespace seam::core {
+
+/// Counts of the float32 storage step (see round_to_float32).
+struct Float32Rounding {
+  std::size_t degenerate = 0;  ///< positive in double, non-positive after rounding, before nudging
+  std::size_t remaining = 0;   ///< of those, still non-positive after nudging
+};
+
+/// Rounds `uv` (already fitted into [0,1]^2) to float32 in place. A triangle that was positive
+/// in double but rounds to zero or negative area gets its corners nudged to neighbouring float
+/// grid points (one ulp in x and/or y, staying in [0,1]) when that makes it positive without
+/// making any other triangle around the moved vertex non-positive. O(V + F).
+Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv);
+
+}  // namespace seam::core
