@@ -81,6 +81,25 @@ Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId
     });
   }
 
+  // An interior cut edge both of whose ends keep a single wedge (a slit between two vertices
+  // touching no other cut) would be glued shut again: a two-edge boundary loop is not a
+  // simplicial mesh. Report it instead of silently leaving the edge closed.
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (!is_cut[e]) continue;
+    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
+    const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
+    if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
+    if (find_root(parent, a.value()) == find_root(parent, mesh.next(b).value()) &&
+        find_root(parent, b.value()) == find_root(parent, mesh.next(a).value())) {
+      const auto u = mesh.tail(a).value();
+      const auto v = mesh.head(a).value();
+      return make_error(ErrorCode::kTopologyViolation,
+                        "cut edge " + std::to_string(e) + " (" + std::to_string(u) + ", " + std::to_string(v) +
+                            ") cannot open: neither end meets another cut edge or the boundary (a slit)",
+                        {static_cast<std::uint32_t>(e)});
+    }
+  }
+
   std::vector<Triangle> triangles(mesh.num_faces());
   for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
     HalfedgeId h = mesh.face_halfedge(FaceId(f));
@@ -90,8 +109,7 @@ Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId
   }
   auto built = build_halfedge_mesh(positions, triangles);
   if (!built.ok()) {
-    // Only a cut that cannot be represented as a simplicial mesh gets here, e.g. a single
-    // cut edge whose both ends have one wedge (a slit between two interior vertices).
+    // Defensive: the wedge construction of a valid mesh always rebuilds; report, don't abort.
     Error error = built.take_error();
     error.code = ErrorCode::kTopologyViolation;
     error.message = "cutting along the given edges does not give a simplicial mesh: " + error.message;

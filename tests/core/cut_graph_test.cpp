@@ -1,0 +1,133 @@
+#include <doctest/doctest.h>
+
+#include <map>
+#include <numbers>
+
+#include "core/cut.h"
+#include "core/cut_graph.h"
+#include "core/topology.h"
+#include "fixtures.h"
+#include "test_data.h"
+
+using namespace seam::core;
+namespace fx = seam::fixtures;
+
+namespace {
+
+HalfedgeMesh build(const fx::Soup& s) {
+  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
+  REQUIRE(mesh.ok());
+  return std::move(mesh).value();
+}
+
+double length_of(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges) {
+  double total = 0;
+  for (EdgeId e : edges) total += mesh.edge_length(e);
+  return total;
+}
+
+// The cut graph opens every component into one disc, is sorted and unique, avoids the
+// boundary, and has no dangling branch (a degree-1 vertex must lie on a boundary loop).
+void check_cut_graph(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges) {
+  CHECK(std::is_sorted(edges.begin(), edges.end()));
+  CHECK(std::adjacent_find(edges.begin(), edges.end()) == edges.end());
+  std::map<std::uint32_t, int> degree;
+  for (EdgeId e : edges) {
+    CHECK(!mesh.is_boundary(e));
+    ++degree[mesh.tail(HalfedgeMesh::halfedge(e)).value()];
+    ++degree[mesh.head(HalfedgeMesh::halfedge(e)).value()];
+  }
+  for (const auto& [v, d] : degree) {
+    if (d == 1) CHECK(mesh.is_boundary(VertexId(v)));
+  }
+  auto cut = cut_along_edges(mesh, edges);
+  REQUIRE(cut.ok());
+  // Every component becomes a disc, except spheres, which need no cut graph.
+  const Topology before = compute_topology(mesh);
+  const Topology after = compute_topology(cut->mesh);
+  REQUIRE(after.components.size() == before.components.size());
+  for (std::size_t c = 0; c < after.components.size(); ++c) {
+    CAPTURE(c);
+    const bool sphere = before.components[c].genus == 0 && before.components[c].boundary_loops == 0;
+    CHECK(after.components[c].euler_characteristic == (sphere ? 2 : 1));
+    CHECK(after.components[c].boundary_loops == (sphere ? 0u : 1u));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("discs and spheres need no cut graph") {
+  for (const auto& soup : {fx::icosphere(2), fx::disc(), fx::tetrahedron()}) {
+    const HalfedgeMesh mesh = build(soup);
+    auto cg = compute_cut_graph(mesh);
+    REQUIRE(cg.ok());
+    CHECK(cg->empty());
+  }
+}
+
+TEST_CASE("cut graphs open tori, multi-holed slabs, cylinders and mixed components into discs") {
+  struct Case {
+    const char* name;
+    fx::Soup soup;
+  };
+  const Case cases[] = {{"torus", fx::torus()},
+                        {"double torus", fx::holed_slab(2)},
+                        {"triple torus", fx::holed_slab(3)},
+                        {"open cylinder", fx::open_cylinder()},
+                        {"torus + cylinder + sphere",
+                         fx::join(fx::join(fx::torus(), fx::translated(fx::open_cylinder(), Vec3(10, 0, 0))),
+                                  fx::translated(fx::icosphere(1), Vec3(-10, 0, 0)))}};
+  for (const auto& c : cases) {
+    CAPTURE(std::string(c.name));
+    const HalfedgeMesh mesh = build(c.soup);
+    auto cg = compute_cut_graph(mesh);
+    REQUIRE(cg.ok());
+    CHECK(!cg->empty());
+    check_cut_graph(mesh, *cg);
+  }
+}
+
+TEST_CASE("torus cut graph is short: the two loops, not a tree sweep") {
+  // R = 2, r = 0.6, 24 x 12: the shortest meridian is a 12-gon of radius 0.6 and the shortest
+  // longitude the inner 24-gon of radius 1.4. A shortest system of two loops through one
+  // point is at most about their sum (plus a short connector on the tube).
+  const HalfedgeMesh mesh = build(fx::torus(24, 12, 2.0, 0.6));
+  auto cg = compute_cut_graph(mesh);
+  REQUIRE(cg.ok());
+  const double meridian = 12 * 2 * 0.6 * std::sin(std::numbers::pi / 12);
+  const double inner = 24 * 2 * 1.4 * std::sin(std::numbers::pi / 24);
+  const double length = length_of(mesh, *cg);
+  CHECK(length >= meridian + inner - 1e-9);
+  CHECK(length <= 1.25 * (meridian + inner));
+}
+
+TEST_CASE("open cylinder: the cut graph is one shortest path between the two rims") {
+  const HalfedgeMesh mesh = build(fx::open_cylinder(16, 6, 2.0));
+  auto cg = compute_cut_graph(mesh);
+  REQUIRE(cg.ok());
+  check_cut_graph(mesh, *cg);
+  CHECK(length_of(mesh, *cg) == doctest::Approx(2.0));  // six vertical rungs of height 1/3
+}
+
+TEST_CASE("real meshes: elephant (genus 3 handles in the CGAL data), knot1, mushroom, lion-head") {
+  for (const char* name : {"elephant", "knot1", "mushroom", "lion-head"}) {
+    CAPTURE(std::string(name));
+    const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
+    const Topology topo = compute_topology(mesh);
+    auto cg = compute_cut_graph(mesh);
+    REQUIRE(cg.ok());
+    bool needs = false;
+    for (const auto& c : topo.components) needs = needs || c.genus > 0 || c.boundary_loops > 1;
+    CHECK(cg->empty() == !needs);
+    check_cut_graph(mesh, *cg);
+  }
+}
+
+TEST_CASE("cut graph honours cancellation") {
+  const HalfedgeMesh mesh = build(fx::holed_slab(2));
+  CancelToken token;
+  token.cancel();
+  auto cg = compute_cut_graph(mesh, token);
+  REQUIRE(!cg.ok());
+  CHECK(cg.error().code == ErrorCode::kCancelled);
+}
