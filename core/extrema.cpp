@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <span>
 #include <string>
 #include <thread>
 #include <utility>
@@ -89,18 +90,21 @@ struct Component {
   double area = 0;
 };
 
-// Dijkstra on one component in local indices. `distance` holds upper bounds on entry (kInf,
-// or the distances to earlier sources); a vertex is relaxed only when the new source is
-// strictly closer, so with earlier distances in place only the new source's geodesic Voronoi
-// cell is explored: farthest-point sampling then costs a few full runs in total, not one per
-// sample. `on_improve(w)` is called for every vertex whose distance drops.
+// Dijkstra on one component in local indices from one or more sources. `distance` holds
+// upper bounds on entry (kInf, or the distances to earlier sources); a vertex is relaxed only
+// when the new sources are strictly closer, so with earlier distances in place only the new
+// source's geodesic Voronoi cell is explored: farthest-point sampling then costs a few full
+// runs in total, not one per sample. `on_improve(w, from)` is called for every vertex whose
+// distance drops, with the vertex it was reached from (kNone for a source).
 template <class OnImprove>
 Status relax_from(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
-                  std::uint32_t source, std::vector<double>& distance, IndexedHeap& heap,
+                  std::span<const std::uint32_t> sources, std::vector<double>& distance, IndexedHeap& heap,
                   const CancelToken& cancel, OnImprove&& on_improve) {
-  distance[source] = 0.0;
-  on_improve(source);
-  heap.push_or_decrease(source);
+  for (std::uint32_t source : sources) {
+    distance[source] = 0.0;
+    on_improve(source, kNone);
+    heap.push_or_decrease(source);
+  }
   std::uint32_t polls = 0;
   while (!heap.empty()) {
     if (cancel.poll(polls)) return cancelled_error("extrema detection");
@@ -112,12 +116,21 @@ Status relax_from(const EdgeGraph& graph, const Component& comp, const std::vect
       const double nd = d + graph.weight[slot];
       if (nd < distance[w]) {
         distance[w] = nd;
-        on_improve(w);
+        on_improve(w, v);
         heap.push_or_decrease(w);
       }
     }
   }
   return Ok{};
+}
+
+template <class OnImprove>
+Status relax_from(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
+                  std::uint32_t source, std::vector<double>& distance, IndexedHeap& heap, const CancelToken& cancel,
+                  OnImprove&& on_improve) {
+  const std::uint32_t sources[] = {source};
+  return relax_from(graph, comp, local_of, std::span<const std::uint32_t>(sources), distance, heap, cancel,
+                    std::forward<OnImprove>(on_improve));
 }
 
 // One third of the area of every incident face: the vertex's share of the surface.
@@ -167,7 +180,7 @@ Result<std::vector<double>> component_field(const EdgeGraph& graph, const Compon
     }
     return static_cast<std::uint32_t>(best);
   };
-  auto nothing = [](std::uint32_t) {};
+  auto nothing = [](std::uint32_t, std::uint32_t) {};
 
   // 1. Farthest-point sampling with incremental (Voronoi-pruned) Dijkstra runs.
   std::vector<double> nearest_distance(n, kInf);
@@ -185,7 +198,7 @@ Result<std::vector<double>> component_field(const EdgeGraph& graph, const Compon
     while (sources.size() < k_max) {
       const auto k = static_cast<std::uint32_t>(sources.size());
       sources.push_back(source);
-      auto claim = [&](std::uint32_t w) { nearest_sample[w] = k; };
+      auto claim = [&](std::uint32_t w, std::uint32_t) { nearest_sample[w] = k; };
       if (auto st = relax_from(graph, comp, local_of, source, nearest_distance, heap, cancel, claim); !st.ok()) {
         return st.take_error();
       }
@@ -306,6 +319,134 @@ std::vector<Peak> persistent_maxima(const EdgeGraph& graph, const Component& com
   return peaks;
 }
 
+// Multi-resolution (the paper's §6: find the big protrusions at low resolution). Components
+// of at least 2 * kCoarseCellsMin vertices run the sampling, the AGD and the merge tree on a
+// graph of geodesic Voronoi cells of ~n / kVerticesPerCell seeds (at least kCoarseCellsMin),
+// which costs about three Dijkstra passes on the mesh instead of samples + 4. A cell is at
+// most a few edges across, ~0.004 sqrt(area) at the minimum count, an order of magnitude
+// below the default threshold; tips and saddles are reported at the cells' seed vertices.
+constexpr std::size_t kCoarseCellsMin = 20000;
+constexpr std::size_t kVerticesPerCell = 16;
+
+struct CoarseLevel {
+  EdgeGraph graph;                      // over cells; head holds cell indices
+  Component cells;                      // vertices 0..M-1 (identity), area of the component
+  std::vector<double> cell_area;        // per cell
+  std::vector<std::uint32_t> identity;  // the local_of of the cell graph
+  std::vector<std::uint32_t> seed;      // per cell: its seed, a local vertex of the component
+  std::vector<std::uint32_t> cell_of;   // per local vertex: its cell
+};
+
+// SplitMix64 finaliser: a fixed hash of the vertex id, so seeds do not depend on position
+// (rigid motion and scale leave them unchanged) and are spread like a random sample.
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
+                            const std::vector<double>& area, const CancelToken& cancel) {
+  const std::size_t n = comp.vertices.size();
+  const double target = static_cast<double>(std::max(n / kVerticesPerCell, kCoarseCellsMin));
+  CoarseLevel level;
+  // Each vertex is a seed with probability proportional to its area, so cells have about
+  // equal area on any tessellation.
+  for (std::size_t j = 0; j < n; ++j) {
+    const double u = static_cast<double>(mix(comp.vertices[j]) >> 11) * 0x1.0p-53;
+    if (u < area[comp.vertices[j]] * target / comp.area) level.seed.push_back(static_cast<std::uint32_t>(j));
+  }
+  if (level.seed.empty()) level.seed.push_back(0);
+  const std::size_t m = level.seed.size();
+
+  std::vector<double> distance(n, kInf);
+  level.cell_of.assign(n, kNone);
+  for (std::size_t c = 0; c < m; ++c) level.cell_of[level.seed[c]] = static_cast<std::uint32_t>(c);
+  {
+    IndexedHeap heap(distance, n);
+    auto inherit = [&](std::uint32_t w, std::uint32_t from) {
+      if (from != kNone) level.cell_of[w] = level.cell_of[from];
+    };
+    if (auto st = relax_from(graph, comp, local_of, std::span<const std::uint32_t>(level.seed), distance, heap,
+                             cancel, inherit);
+        !st.ok()) {
+      return st.take_error();
+    }
+  }
+
+  // Two cells are adjacent where a mesh edge crosses between them; the edge's weight is the
+  // shortest seed-to-seed path through such an edge.
+  struct Link {
+    std::uint32_t a, b;
+    double weight;
+  };
+  std::vector<Link> links;
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::uint32_t gv = comp.vertices[j];
+    const std::uint32_t cj = level.cell_of[j];
+    for (std::uint32_t slot = graph.offsets[gv]; slot < graph.offsets[gv + 1]; ++slot) {
+      const std::uint32_t w = local_of[graph.head[slot].index()];
+      const std::uint32_t cw = level.cell_of[w];
+      if (cj < cw) links.push_back({cj, cw, distance[j] + graph.weight[slot] + distance[w]});
+    }
+  }
+  std::sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
+    return x.a != y.a ? x.a < y.a : x.b != y.b ? x.b < y.b : x.weight < y.weight;
+  });
+  links.erase(std::unique(links.begin(), links.end(), [](const Link& x, const Link& y) { return x.a == y.a && x.b == y.b; }),
+              links.end());
+  EdgeGraph& cg = level.graph;
+  cg.offsets.assign(m + 1, 0);
+  for (const Link& l : links) ++cg.offsets[l.a + 1], ++cg.offsets[l.b + 1];
+  for (std::size_t c = 0; c < m; ++c) cg.offsets[c + 1] += cg.offsets[c];
+  cg.head.resize(2 * links.size());
+  cg.weight.resize(2 * links.size());
+  std::vector<std::uint32_t> slot(cg.offsets.begin(), cg.offsets.end() - 1);
+  for (const Link& l : links) {
+    cg.head[slot[l.a]] = VertexId(l.b), cg.weight[slot[l.a]++] = l.weight;
+    cg.head[slot[l.b]] = VertexId(l.a), cg.weight[slot[l.b]++] = l.weight;
+  }
+
+  level.identity.resize(m);
+  std::iota(level.identity.begin(), level.identity.end(), 0u);
+  level.cells.vertices = level.identity;
+  level.cells.area = comp.area;
+  level.cell_area.assign(m, 0.0);
+  for (std::size_t j = 0; j < n; ++j) level.cell_area[level.cell_of[j]] += area[comp.vertices[j]];
+  return level;
+}
+
+// The maxima of one component with their prominence, in the component's local indices; and,
+// when `field` is given, f per local vertex (piecewise constant per cell on the coarse path).
+Result<std::vector<Peak>> component_peaks(const EdgeGraph& graph, const Component& comp,
+                                          const std::vector<std::uint32_t>& local_of,
+                                          const std::vector<double>& area, std::size_t samples, unsigned threads,
+                                          std::size_t& samples_used, std::vector<double>* field,
+                                          const CancelToken& cancel) {
+  if (comp.vertices.size() < 2 * kCoarseCellsMin) {
+    SEAM_TRY(std::vector<double> f,
+             component_field(graph, comp, local_of, area, samples, threads, samples_used, cancel));
+    std::vector<Peak> peaks = persistent_maxima(graph, comp, f, local_of);
+    if (field) *field = std::move(f);
+    return peaks;
+  }
+  SEAM_TRY(const CoarseLevel coarse, coarsen(graph, comp, local_of, area, cancel));
+  SEAM_TRY(const std::vector<double> f,
+           component_field(coarse.graph, coarse.cells, coarse.identity, coarse.cell_area, samples, threads,
+                           samples_used, cancel));
+  std::vector<Peak> peaks = persistent_maxima(coarse.graph, coarse.cells, f, coarse.identity);
+  for (Peak& p : peaks) {
+    p.local = coarse.seed[p.local];
+    if (p.saddle != kNone) p.saddle = coarse.seed[p.saddle];
+  }
+  if (field) {
+    field->resize(comp.vertices.size());
+    for (std::size_t j = 0; j < comp.vertices.size(); ++j) (*field)[j] = f[coarse.cell_of[j]];
+  }
+  return peaks;
+}
+
 Status validate(const ExtremaOptions& options) {
   if (!std::isfinite(options.min_protrusion) || options.min_protrusion < 0) {
     return make_error(ErrorCode::kInvalidArgument,
@@ -340,12 +481,10 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOpti
     for (std::size_t j = 0; j < comp.vertices.size(); ++j) local_of[comp.vertices[j]] = static_cast<std::uint32_t>(j);
 
     std::size_t used = 0;
-    SEAM_TRY(const std::vector<double> f,
-             component_field(graph, comp, local_of, area, options.samples, options.threads, used, cancel));
+    SEAM_TRY(std::vector<Peak> peaks, component_peaks(graph, comp, local_of, area, options.samples, options.threads,
+                                                      used, nullptr, cancel));
     result.stats.samples += used;
     if (cancel.is_cancelled()) return cancelled_error("extrema detection");
-
-    std::vector<Peak> peaks = persistent_maxima(graph, comp, f, local_of);
     result.stats.local_maxima += peaks.size();
     std::erase_if(peaks, [&](const Peak& p) { return p.prominence < options.min_protrusion; });
     std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) {
@@ -390,8 +529,9 @@ Result<VertexData<double>> average_geodesic_distance(const HalfedgeMesh& mesh, s
     if (comp.vertices.empty() || !(comp.area > 0)) continue;
     for (std::size_t j = 0; j < comp.vertices.size(); ++j) local_of[comp.vertices[j]] = static_cast<std::uint32_t>(j);
     std::size_t used = 0;
-    SEAM_TRY(const std::vector<double> f,
-             component_field(graph, comp, local_of, area, samples, 0, used, cancel));
+    std::vector<double> f;
+    SEAM_TRY(const std::vector<Peak> peaks,
+             component_peaks(graph, comp, local_of, area, samples, 0, used, &f, cancel));
     for (std::size_t j = 0; j < comp.vertices.size(); ++j) field[VertexId(comp.vertices[j])] = f[j];
   }
   return field;
