@@ -1,0 +1,104 @@
+// glTF I/O throughput: load (parse + read primitive) + weld + build, and encode, for GLB and
+// Draco GLB of ~100k and ~1M faces made at run time by midpoint-subdividing CGAL meshes.
+// Prints a table; asserts nothing. Run: build-*/bench/gltf_bench [--quick]
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include "api/gltf_reader.h"
+#include "api/gltf_writer.h"
+#include "api/mesh_io.h"
+#include "core/halfedge_mesh.h"
+#include "core/weld.h"
+
+namespace {
+
+using namespace seam;
+using Clock = std::chrono::steady_clock;
+
+double ms(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+core::IndexedMesh subdivide(const core::IndexedMesh& in) {
+  core::IndexedMesh out{in.positions, {}};
+  std::unordered_map<std::uint64_t, std::uint32_t> mid;
+  auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+    auto [it, inserted] = mid.try_emplace(key, static_cast<std::uint32_t>(out.positions.size()));
+    if (inserted) out.positions.push_back(0.5 * (in.positions[a] + in.positions[b]));
+    return it->second;
+  };
+  for (const auto& t : in.triangles) {
+    const auto a = midpoint(t[0], t[1]), b = midpoint(t[1], t[2]), c = midpoint(t[2], t[0]);
+    out.triangles.push_back({t[0], a, c});
+    out.triangles.push_back({t[1], b, a});
+    out.triangles.push_back({t[2], c, b});
+    out.triangles.push_back({a, b, c});
+  }
+  return out;
+}
+
+template <class F>
+double best_of(int runs, F&& f) {
+  double best = 1e300;
+  for (int i = 0; i < runs; ++i) {
+    const auto t = Clock::now();
+    f();
+    best = std::min(best, ms(t));
+  }
+  return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  struct Input {
+    const char* name;
+    int levels;
+  };
+  const Input inputs[] = {{"elephant", 2}, {"bunny00", quick ? 1 : 2}};
+  std::printf("%-14s %9s %6s %11s %10s %10s %10s %12s\n", "mesh", "faces", "format", "bytes", "encode_ms", "load_ms",
+              "weld_ms", "cut_write_ms");
+  for (const auto& input : inputs) {
+    auto loaded = api::read_mesh_file(std::string(SEAM_TEST_DATA_DIR) + "/meshes/" + input.name + ".off");
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "missing %s: run scripts/fetch-test-data.sh\n", input.name);
+      return 1;
+    }
+    core::IndexedMesh mesh = std::move(loaded).value();
+    for (int l = 0; l < input.levels; ++l) mesh = subdivide(mesh);
+    for (bool draco : {false, true}) {
+      const int runs = mesh.triangles.size() > 500000 ? 1 : 3;
+      std::string glb;
+      const double encode_ms = best_of(runs, [&] { glb = std::move(api::write_plain_glb(mesh, {}, draco)).value(); });
+      api::GltfDocument doc;
+      api::PrimitiveData prim;
+      api::ReadLimits limits;
+      const double load_ms = best_of(runs, [&] {
+        doc = std::move(api::parse_asset(glb, api::AssetKind::kGlb, limits)).value();
+        prim = std::move(api::read_primitive(doc, 0, 0, limits)).value();
+      });
+      const double weld_ms = best_of(runs, [&] {
+        auto weld = core::weld_vertices(prim.mesh.positions, {});
+        const auto tris = core::remap_triangles(prim.mesh.triangles, weld->input_to_welded);
+        auto built = core::build_halfedge_mesh(weld->positions, tris);
+        if (!built.ok()) std::fprintf(stderr, "build failed: %s\n", built.error().message.c_str());
+      });
+      // The cut asset writer with an identity cut plus a UV set: the encode stage of a request.
+      api::CutPrimitive cut;
+      cut.source_vertex.resize(prim.mesh.positions.size());
+      for (std::uint32_t v = 0; v < cut.source_vertex.size(); ++v) cut.source_vertex[v] = v;
+      cut.triangles = prim.mesh.triangles;
+      cut.uv.assign(cut.source_vertex.size(), {0.25f, 0.75f});
+      api::WriteOptions options;
+      options.draco = draco;
+      const double cut_ms = best_of(runs, [&] { (void)api::write_cut_asset(doc, 0, 0, prim, cut, options); });
+      std::printf("%-14s %9zu %6s %11zu %10.1f %10.1f %10.1f %12.1f\n", input.name, mesh.triangles.size(),
+                  draco ? "draco" : "glb", glb.size(), encode_ms, load_ms, weld_ms, cut_ms);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
