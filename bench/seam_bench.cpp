@@ -1,0 +1,177 @@
+// The whole seam pipeline (compute_seam: components, cut graph, boundary terminal, method,
+// verified disc cut) per method: lengths on real meshes (table 1) and end-to-end timings on
+// ~10k, ~100k and ~1M faces with 4..32 extrema (table 2).
+//   cmake -DSEAM_BUILD_BENCH=ON ... && ninja seam_bench && ./bench/seam_bench [--quick] [--lengths] [--timings]
+//
+// Extrema rule (deterministic): farthest-point sampling by edge-graph distance, starting from
+// the vertex farthest from the smallest non-isolated vertex (tests/seam_fixtures.h).
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "core/seam.h"
+#include "core/topology.h"
+#include "core/weld.h"
+#include "seam_fixtures.h"
+
+using namespace seam;
+using namespace seam::core;
+
+namespace {
+
+HalfedgeMesh build(const IndexedMesh& soup) {
+  auto weld = weld_vertices(soup.positions, {});
+  const auto tris = remap_triangles(soup.triangles, weld->input_to_welded);
+  auto mesh = build_halfedge_mesh(weld->positions, tris);
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "mesh: %s\n", mesh.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(mesh).value();
+}
+
+constexpr SeamMethod kMethods[] = {SeamMethod::kSkeleton, SeamMethod::kMst, SeamMethod::kGreedy,
+                                   SeamMethod::kOptimal};
+
+void length_table(bool quick) {
+  std::printf("\n## Seam length per method through compute_seam (extrema: farthest-point sampling)\n\n");
+  std::printf("Lengths are of the seam proper (the cut graph, identical for every method, is listed apart).\n");
+  std::printf("`leaf` = every extremum off the cut is a leaf of the seam (required of skeleton and optimal).\n\n");
+  std::printf("| mesh | faces | genus | loops | k | cut graph | skeleton | mst | greedy | optimal | skel/mst | "
+              "skel/greedy | skel/opt | skel leaf | skel ms | opt ms |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  const std::vector<std::string> names =
+      quick ? std::vector<std::string>{"hand", "elephant"}
+            : std::vector<std::string>{"hand", "elephant", "camel", "dino", "armadillo", "cow", "bull",
+                                       "lion-head", "knot1", "mushroom", "homer"};
+  for (const auto& name : names) {
+    const HalfedgeMesh mesh = build(bench::load_cgal(name));
+    const Topology topo = compute_topology(mesh);
+    for (std::size_t k : {4u, 8u}) {
+      const auto extrema = fixtures::farthest_point_extrema(mesh, k);
+      double length[4] = {0, 0, 0, 0};
+      double ms[4] = {0, 0, 0, 0};
+      const char* status[4] = {"", "", "", ""};
+      double cut_graph = 0;
+      bool leaf = true;
+      for (int m = 0; m < 4; ++m) {
+        Result<SeamResult> r = make_error(ErrorCode::kInvalidArgument, "not run");
+        ms[m] = bench::best_ms(1, [&] { r = compute_seam(mesh, extrema, {.method = kMethods[m]}); });
+        if (!r.ok()) {
+          status[m] = r.error().code == ErrorCode::kTooManyTerminals ? "refused" : "ERROR";
+          std::fprintf(stderr, "%s k=%zu method %d: %s\n", name.c_str(), k, m, r.error().message.c_str());
+          continue;
+        }
+        length[m] = r->length;
+        cut_graph = r->cut_graph_length;
+        if (m == 0) {
+          std::vector<int> degree(mesh.num_vertices(), 0);
+          std::vector<std::uint8_t> on_cut(mesh.num_vertices(), 0);
+          for (EdgeId e : r->seam_edges) {
+            ++degree[mesh.tail(HalfedgeMesh::halfedge(e)).index()];
+            ++degree[mesh.head(HalfedgeMesh::halfedge(e)).index()];
+          }
+          for (EdgeId e : r->cut_graph_edges) {
+            on_cut[mesh.tail(HalfedgeMesh::halfedge(e)).index()] = 1;
+            on_cut[mesh.head(HalfedgeMesh::halfedge(e)).index()] = 1;
+          }
+          for (VertexId x : r->extrema) {
+            if (!mesh.is_boundary(x) && !on_cut[x.index()] && degree[x.index()] != 1) leaf = false;
+          }
+        }
+      }
+      auto cell = [&](int m) {
+        static char buf[4][32];
+        if (status[m][0]) return static_cast<const char*>(status[m]);
+        std::snprintf(buf[m], sizeof buf[m], "%.4f", length[m]);
+        return static_cast<const char*>(buf[m]);
+      };
+      auto ratio = [&](int a, int b) {
+        static char buf[3][16];
+        static int slot = 0;
+        slot = (slot + 1) % 3;
+        if (status[a][0] || status[b][0] || length[b] == 0) return static_cast<const char*>("-");
+        std::snprintf(buf[slot], sizeof buf[slot], "%.3f", length[a] / length[b]);
+        return static_cast<const char*>(buf[slot]);
+      };
+      const char* r1 = ratio(0, 1);
+      const char* r2 = ratio(0, 2);
+      const char* r3 = ratio(0, 3);
+      std::printf("| %s | %zu | %d | %zu | %zu | %.4f | %s | %s | %s | %s | %s | %s | %s | %s | %.1f | %.1f |\n",
+                  name.c_str(), mesh.num_faces(), topo.total_genus(), topo.boundary_loops.size(), extrema.size(),
+                  cut_graph, cell(0), cell(1), cell(2), cell(3), r1, r2, r3, leaf ? "yes" : "NO", ms[0], ms[3]);
+      std::fflush(stdout);
+    }
+  }
+}
+
+void timing_table(bool quick) {
+  std::printf("\n## compute_seam end to end, milliseconds (best of 3 below 200k faces, else 1 run)\n\n");
+  std::printf("Columns per method: total wall time; for skeleton also the stats split (preprocess =\n");
+  std::printf("topology + cut graph + coning + final disc verification; paths = per-terminal Dijkstra;\n");
+  std::printf("method = tour/shrink/straighten/refine).\n\n");
+  std::printf("| mesh | faces | k | skeleton | (pre / paths / method) | skeleton no refine | mst | greedy | optimal |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  struct Size {
+    const char* base;
+    std::size_t min_faces;
+  };
+  const std::vector<Size> sizes = quick ? std::vector<Size>{{"hand", 9000}}
+                                        : std::vector<Size>{{"hand", 9000}, {"camel", 70000}, {"camel", 1000000}};
+  for (const auto& size : sizes) {
+    const HalfedgeMesh mesh = build(bench::subdivide_to(bench::load_cgal(size.base), size.min_faces));
+    const auto all_extrema = fixtures::farthest_point_extrema(mesh, 32);
+    const int repeats = mesh.num_faces() < 200000 ? 3 : 1;
+    for (std::size_t k : {4u, 8u, 16u, 32u}) {
+      const std::span<const VertexId> extrema(all_extrema.data(), std::min(k, all_extrema.size()));
+      double total[5] = {0, 0, 0, 0, 0};
+      const char* status[5] = {"", "", "", "", ""};
+      SeamStats stats;
+      const SeamOptions options[5] = {{.method = SeamMethod::kSkeleton},
+                                      {.method = SeamMethod::kSkeleton, .refine = false},
+                                      {.method = SeamMethod::kMst},
+                                      {.method = SeamMethod::kGreedy},
+                                      {.method = SeamMethod::kOptimal}};
+      for (int m = 0; m < 5; ++m) {
+        if (m == 4 && k > 8) {
+          status[m] = "n/a (k>8)";
+          continue;
+        }
+        Result<SeamResult> r = make_error(ErrorCode::kInvalidArgument, "not run");
+        total[m] = bench::best_ms(repeats, [&] { r = compute_seam(mesh, extrema, options[m]); });
+        if (!r.ok()) {
+          status[m] = r.error().code == ErrorCode::kTooManyTerminals ? "refused (memory)" : "ERROR";
+          std::fprintf(stderr, "%s k=%zu option %d: %s\n", size.base, k, m, r.error().message.c_str());
+        } else if (m == 0) {
+          stats = r->stats;
+        }
+      }
+      auto cell = [&](int m) {
+        static char buf[5][32];
+        if (status[m][0]) return static_cast<const char*>(status[m]);
+        std::snprintf(buf[m], sizeof buf[m], "%.1f", total[m]);
+        return static_cast<const char*>(buf[m]);
+      };
+      std::printf("| %s x%zu | %zu | %zu | %s | %.1f / %.1f / %.1f | %s | %s | %s | %s |\n", size.base,
+                  mesh.num_faces() / bench::load_cgal(size.base).triangles.size(), mesh.num_faces(), extrema.size(),
+                  cell(0), stats.preprocess_ms, stats.paths_ms, stats.method_ms, cell(1), cell(2), cell(3), cell(4));
+      std::fflush(stdout);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false, lengths = true, timings = true;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) quick = true;
+    if (!std::strcmp(argv[i], "--lengths")) timings = false;
+    if (!std::strcmp(argv[i], "--timings")) lengths = false;
+  }
+  if (lengths) length_table(quick);
+  if (timings) timing_table(quick);
+  return 0;
+}
