@@ -11,5 +11,8 @@ case "$flavour" in
   asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DSEAM_SANITIZE=address;undefined") ;;
   *) echo "usage: scripts/build.sh release|asan [cmake args]" >&2; exit 2 ;;
 esac
-cmake -S "$root" -B "$root/build/$flavour" -G Ninja "${args[@]}" "$@" >/dev/null
+# Explicit defaults, so options cached by an earlier configure never leak into this one;
+# the caller's arguments come last and win.
+defaults=(-DSEAM_BUILD_SERVER=ON -DSEAM_BUILD_TESTS=ON -DSEAM_BUILD_BENCH=OFF -DSEAM_WERROR=OFF)
+cmake -S "$root" -B "$root/build/$flavour" -G Ninja "${args[@]}" "${defaults[@]}" "$@" >/dev/null
 cmake --build "$root/build/$flavour" -j "$jobs"
