@@ -24,9 +24,11 @@
 //
 // 4. Multi-resolution, as the paper's §6 proposes ("find all big protrusions at low
 //    resolution"): a component of 40k vertices or more runs steps 1-3 on the graph of the
-//    geodesic Voronoi cells of ~V/16 (at least 20k) seed vertices, picked by a fixed hash of
-//    the vertex id with probability proportional to vertex area; tips and saddles are
-//    reported at the cells' seeds (an error of a few edges, ~0.004 sqrt(area)).
+//    cells (grown breadth-first) of ~V/32 (at least 20k) seed vertices, picked by a fixed
+//    hash of the vertex id with probability proportional to vertex area. Cell-graph edges
+//    are seed-to-seed path lengths, rescaled by the ratio to exact distances from one seed
+//    so prominences keep the exact path's scale. Tips and saddles are reported at the
+//    cells' seeds (an error of a few edges, ~0.004 sqrt(area) at 20k cells).
 //
 // Properties: deterministic (ties are broken by vertex id); invariant to rigid motion and
 // uniform scale (only geodesic distances and area ratios enter); insensitive to the
