@@ -498,6 +498,14 @@ api::ApiResult<int> Server::bind() {
   return port;
 }
 
+// A working first request for whoever just started the server (README's first command).
+std::string Server::try_line() const {
+  const auto& bind = impl_->config.bind;
+  const std::string host = (bind == "0.0.0.0" || bind == "::" || bind.empty()) ? "127.0.0.1" : bind;
+  return "seamd sample --out sample.glb && curl -F mesh=@sample.glb http://" + host + ":" +
+         std::to_string(impl_->bound_port) + "/seam";
+}
+
 void Server::run() {
   impl_->log->info(nlohmann::json{{"event", "listening"},
                                   {"bind", impl_->config.bind},
@@ -505,7 +513,8 @@ void Server::run() {
                                   {"workers", impl_->pool.workers()},
                                   {"queue", impl_->pool.queue_capacity()},
                                   {"http_threads", effective_http_threads(impl_->config)},
-                                  {"version", SEAM_VERSION}}
+                                  {"version", SEAM_VERSION},
+                                  {"try", try_line()}}
                        .dump());
   // Returns once stop() closed the listening socket and the connection threads finished
   // their requests (httplib joins its pool), so every in-flight client has its answer.
