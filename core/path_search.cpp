@@ -93,6 +93,7 @@ Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distan
     if (d > max_distance) break;
     settled_[v] = 1;
     settled_order_.push_back(VertexId(v));
+    if (settled_order_.size() >= max_settled_) break;
     if (is_target_[v] && --targets_left == 0) break;
     if (mark_[v] == kBlocked && !is_source_[v]) continue;
     for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {

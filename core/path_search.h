@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstddef>
 #include <limits>
 #include <span>
 #include <utility>
@@ -43,6 +44,13 @@ class PathSearch {
   Status run(std::span<const VertexId> targets = {}, double max_distance = kUnreached,
              const CancelToken& cancel = CancelToken::none()) {
     return run_impl(targets, max_distance, false, cancel);
+  }
+  /// Like run() without targets, but also stops once `max_settled` vertices are settled.
+  Status run_limited(double max_distance, std::size_t max_settled, const CancelToken& cancel = CancelToken::none()) {
+    max_settled_ = max_settled;
+    auto st = run_impl({}, max_distance, false, cancel);
+    max_settled_ = SIZE_MAX;
+    return st;
   }
   /// Runs until the first of `targets` is settled (the nearest one). Errors: kCancelled.
   Status run_to_nearest(std::span<const VertexId> targets, const CancelToken& cancel = CancelToken::none()) {
@@ -85,6 +93,7 @@ class PathSearch {
   std::vector<std::pair<double, std::uint32_t>> heap_;
   std::vector<std::uint8_t> is_target_;
   std::uint32_t generation_ = 1;
+  std::size_t max_settled_ = SIZE_MAX;
 };
 
 }  // namespace seam::core

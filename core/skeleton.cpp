@@ -3,6 +3,7 @@
 #include <chrono>
 #include <string>
 
+#include "core/refine.h"
 #include "core/skeleton_trace.h"
 #include "core/straighten.h"
 
@@ -108,14 +109,14 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
   tr.straightened_length = topology_length(mesh, edge_weights, tr.straightened);
   result.stats.length_before_refine = tr.straightened_length;
 
-  TreeTopology final_tree = std::move(straight).value();
+  std::vector<EdgeId> final_edges = topology_edges(*straight);
   if (options.refine) {
     const auto start = std::chrono::steady_clock::now();
-    SEAM_TRY(final_tree, relocate_steiner_points(mesh, graph, edge_weights, final_tree, 4, cancel));
+    SEAM_TRY(final_edges, refine_tree(mesh, graph, edge_weights, terminals, final_edges, {}, &tr.refine_stats, cancel));
     result.stats.refine_ms = ms_since(start);
-    tr.refined_length = topology_length(mesh, edge_weights, final_tree);
+    tr.refined_length = tr.refine_stats.length_after;
   }
-  result.tree = make_steiner_tree(mesh, topology_edges(final_tree), terminals, edge_weights);
+  result.tree = make_steiner_tree(mesh, final_edges, terminals, edge_weights);
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/refine.h"
 #include "core/shrink.h"
 #include "core/skeleton.h"
 #include "core/straighten.h"
@@ -19,7 +20,8 @@ struct SkeletonTrace {
   TreeTopology straightened;          ///< after §4.4
   StraightenStats straighten_stats;
   double straightened_length = 0;     ///< = SkeletonStats::length_before_refine
-  double refined_length = 0;          ///< after relocate_steiner_points (0 when refine is off)
+  RefineStats refine_stats;
+  double refined_length = 0;          ///< after refine_tree (0 when refine is off)
   bool fallback = false;              ///< a stage failed and the star tree was returned instead
   std::string fallback_reason;
 };

@@ -1,7 +1,6 @@
 // Turning the shrunk tour's skeleton into the seam: its tree structure (terminals as leaves,
-// Steiner points inside), straightening each branch into a shortest path (§4.4), relocating
-// Steiner points (our refinement), and the checks and fallback that keep the result a
-// full-component Steiner tree whatever the mesh.
+// Steiner points inside), straightening each branch into a shortest path (§4.4), and the
+// checks and fallback that keep the result a full-component Steiner tree whatever the mesh.
 #pragma once
 
 #include <array>
@@ -75,14 +74,6 @@ struct StraightenStats {
 Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                          std::span<const double> edge_weights, const TreeTopology& topology, StraightenStats* stats = nullptr,
                                          const CancelToken& cancel = CancelToken::none());
-
-/// Beyond the paper: moves each Steiner point to the vertex nearby that minimises the sum
-/// of distances to its tree neighbours (a local Steiner problem solved with one bounded
-/// search per neighbour), then straightens again; repeats while the tree gets shorter, at
-/// most `rounds` times. Never returns a longer tree. Errors: kCancelled.
-Result<TreeTopology> relocate_steiner_points(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                             std::span<const double> edge_weights, const TreeTopology& topology,
-                                             int rounds = 4, const CancelToken& cancel = CancelToken::none());
 
 /// The sorted, unique edges of all paths of `topology`.
 std::vector<EdgeId> topology_edges(const TreeTopology& topology);

@@ -250,7 +250,7 @@ TEST_CASE("invalid input is refused") {
 }
 
 TEST_CASE("real CGAL meshes (hand, camel): full-component tree; lengths against the MST seam") {
-  for (const char* name : {"hand", "camel"}) {
+  for (const std::string name : {"hand", "camel"}) {
     for (std::size_t count : {5u, 8u}) {
       CAPTURE(name);
       CAPTURE(count);
@@ -267,7 +267,10 @@ TEST_CASE("real CGAL meshes (hand, camel): full-component tree; lengths against 
       const double mst = mst_seam_length(s);
       MESSAGE(name << " k=" << count << ": skeleton " << result.tree.length << " (paper's steps "
                    << result.stats.length_before_refine << "), MST seam " << mst << ", ratio "
-                   << result.tree.length / mst << ", " << ms << " ms");
+                   << result.tree.length / mst << ", " << ms << " ms (tour " << result.stats.tour_ms << ", shrink "
+                   << result.stats.shrink_ms << ", straighten " << result.stats.straighten_ms << ", refine "
+                   << result.stats.refine_ms << ", pieces " << trace.refine_stats.pieces_tried << ", moves "
+                   << trace.refine_stats.improvements << ")");
     }
   }
 }

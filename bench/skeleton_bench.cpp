@@ -1,0 +1,135 @@
+// The skeleton seam's stages on real meshes: lengths against the baselines and the exact
+// optimum (table 1), and per-stage timings on 10k..1M faces (table 2).
+//   cmake -DSEAM_BUILD_BENCH=ON ... && ninja skeleton_bench && ./bench/skeleton_bench [--quick]
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "core/baselines.h"
+#include "core/skeleton_trace.h"
+#include "core/steiner.h"
+#include "core/topology.h"
+#include "core/weld.h"
+#include "skeleton_fixtures.h"
+
+using namespace seam;
+using namespace seam::core;
+
+namespace {
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+HalfedgeMesh build(const IndexedMesh& soup) {
+  auto weld = weld_vertices(soup.positions, {});
+  const auto tris = remap_triangles(soup.triangles, weld->input_to_welded);
+  auto mesh = build_halfedge_mesh(weld->positions, tris);
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "mesh: %s\n", mesh.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(mesh).value();
+}
+
+const char* valid(const HalfedgeMesh& mesh, const SteinerTree& tree, std::span<const VertexId> terminals) {
+  return check_full_component_tree(mesh, tree.edges, terminals).ok() ? "yes" : "NO";
+}
+
+void quality_table(bool quick) {
+  std::printf("\n## Seam length per method (extrema: farthest-point sampling from vertex 0)\n\n");
+  std::printf("| mesh | faces | k | paper | paper+refine | mst | greedy | optimal | paper/opt | refined/opt | "
+              "refined/mst | refined/greedy | leaves ok | fallback |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  const std::vector<std::string> names = quick ? std::vector<std::string>{"hand"}
+                                               : std::vector<std::string>{"hand", "camel", "dino", "mushroom",
+                                                                          "armadillo", "bunny00"};
+  for (const auto& name : names) {
+    const HalfedgeMesh mesh = build(bench::load_cgal(name));
+    const auto topo = compute_topology(mesh);
+    if (topo.components.size() != 1 || topo.total_genus() != 0 || !topo.boundary_loops.empty()) {
+      std::printf("| %s | %zu | - | skipped: not one closed genus-0 component | | | | | | | | | | |\n", name.c_str(),
+                  mesh.num_faces());
+      continue;
+    }
+    const EdgeGraph graph = build_edge_graph(mesh);
+    for (std::size_t k : {4u, 6u, 8u}) {
+      const auto extrema = fixtures::farthest_point_extrema(mesh, graph, k);
+      auto paths = compute_terminal_paths(mesh, graph, extrema);
+      SkeletonTrace plain_trace, refined_trace;
+      auto plain = skeleton_seam_traced(mesh, graph, {}, *paths, {.refine = false}, &plain_trace);
+      auto refined = skeleton_seam_traced(mesh, graph, {}, *paths, {.refine = true}, &refined_trace);
+      auto mst = mst_seam(mesh, graph, {}, *paths);
+      auto greedy = greedy_seam(mesh, graph, {}, extrema);
+      auto optimal = optimal_seam(mesh, graph, {}, extrema, 10);
+      const double opt = optimal.ok() ? optimal->length : 0.0;
+      const double m = mst.ok() ? mst->length : 0.0;
+      const double g = greedy.ok() ? greedy->length : 0.0;
+      std::printf("| %s | %zu | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %s | %s |\n",
+                  name.c_str(), mesh.num_faces(), k, plain->tree.length, refined->tree.length, m, g, opt,
+                  opt > 0 ? plain->tree.length / opt : 0.0, opt > 0 ? refined->tree.length / opt : 0.0,
+                  m > 0 ? refined->tree.length / m : 0.0, g > 0 ? refined->tree.length / g : 0.0,
+                  valid(mesh, refined->tree, extrema),
+                  plain_trace.fallback || refined_trace.fallback ? "YES" : "no");
+    }
+  }
+}
+
+void timing_table(bool quick) {
+  std::printf("\n## Timings (ms, best of 3; paths on all cores)\n\n");
+  std::printf("| mesh | faces | k | paths | tour | shrink | straighten | refine | seam total | removals | "
+              "rejected |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  struct Size {
+    std::string name;
+    std::size_t faces;
+  };
+  std::vector<Size> sizes = {{"hand", 9000}, {"camel", 70000}, {"camel", 1000000}};
+  if (quick) sizes.resize(1);
+  for (const auto& size : sizes) {
+    const HalfedgeMesh mesh = build(bench::subdivide_to(bench::load_cgal(size.name), size.faces));
+    const EdgeGraph graph = build_edge_graph(mesh);
+    for (std::size_t k : {4u, 8u, 16u, 32u}) {
+      const auto extrema = fixtures::farthest_point_extrema(mesh, graph, k);
+      double paths_ms = 1e300, tour = 0, shrink = 0, straighten = 0, refine = 0, total = 1e300;
+      std::size_t removals = 0, rejected = 0;
+      for (int rep = 0; rep < 3; ++rep) {
+        const double t0 = now_ms();
+        auto paths = compute_terminal_paths(mesh, graph, extrema);
+        const double t1 = now_ms();
+        auto r = skeleton_seam(mesh, graph, {}, *paths);
+        const double t2 = now_ms();
+        if (!r.ok()) {
+          std::fprintf(stderr, "skeleton failed: %s\n", r.error().message.c_str());
+          std::exit(1);
+        }
+        if (t2 - t0 < total) {
+          total = t2 - t0;
+          paths_ms = t1 - t0;
+          tour = r->stats.tour_ms;
+          shrink = r->stats.shrink_ms;
+          straighten = r->stats.straighten_ms;
+          refine = r->stats.refine_ms;
+          removals = r->stats.removals;
+          rejected = r->stats.rejected_removals;
+        }
+      }
+      std::printf("| %s | %zu | %zu | %.1f | %.2f | %.2f | %.2f | %.2f | %.1f | %zu | %zu |\n", size.name.c_str(),
+                  mesh.num_faces(), k, paths_ms, tour, shrink, straighten, refine, total, removals, rejected);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const bool timing_only = argc > 1 && std::strcmp(argv[1], "--timing") == 0;
+  const bool quality_only = argc > 1 && std::strcmp(argv[1], "--quality") == 0;
+  if (!timing_only) quality_table(quick);
+  if (!quality_only) timing_table(quick);
+  return 0;
+}
