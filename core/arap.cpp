@@ -93,8 +93,7 @@ Result<std::vector<Vec2>> flatten_arap(const DiscPatch& patch, std::vector<Vec2>
 
   std::vector<Eigen::Matrix2d> rotation(nf);
   std::vector<Vec2> direction(n, Vec2::Zero());
-  Eigen::VectorXd rhs_x(nfree);
-  Eigen::VectorXd rhs_y(nfree);
+  Eigen::MatrixX2d rhs(nfree, 2);
   std::uint32_t poll = 0;
   for (int iter = 0; iter < iterations; ++iter) {
     if (cancel.is_cancelled()) return cancelled_error("ARAP");
@@ -115,29 +114,20 @@ Result<std::vector<Vec2>> flatten_arap(const DiscPatch& patch, std::vector<Vec2>
       rotation[t] << c, -sn, sn, c;
     }
     // Global step: L u = sum_t sum_edges w R_t (x_i - x_j), with u_0 fixed.
-    rhs_x.setZero();
-    rhs_y.setZero();
+    rhs.setZero();
     for (std::size_t t = 0; t < nf; ++t) {
       const Triangle& tri = patch.triangles[t];
       for (int k = 0; k < 3; ++k) {
         const int i = (k + 1) % 3;
         const int j = (k + 2) % 3;
         const Vec2 r = weight[t][k] * (rotation[t] * (frame[t][i] - frame[t][j]));
-        if (tri[i] != 0) {
-          rhs_x[tri[i] - 1] += r.x();
-          rhs_y[tri[i] - 1] += r.y();
-        }
-        if (tri[j] != 0) {
-          rhs_x[tri[j] - 1] -= r.x();
-          rhs_y[tri[j] - 1] -= r.y();
-        }
+        if (tri[i] != 0) rhs.row(tri[i] - 1) += r.transpose();
+        if (tri[j] != 0) rhs.row(tri[j] - 1) -= r.transpose();
       }
     }
-    rhs_x -= pinned_column * initial[0].x();
-    rhs_y -= pinned_column * initial[0].y();
-    const Eigen::VectorXd x = solver.solve(rhs_x);
-    const Eigen::VectorXd y = solver.solve(rhs_y);
-    if (!x.allFinite() || !y.allFinite()) {
+    rhs -= pinned_column * initial[0].transpose();
+    const Eigen::MatrixX2d xy = solver.solve(rhs);
+    if (!xy.allFinite()) {
       return make_error(ErrorCode::kSolverFailed, "ARAP: the global step produced non-finite values");
     }
     // For fixed rotations the energy is convex in the UVs, so every point on the segment to
@@ -145,7 +135,7 @@ Result<std::vector<Vec2>> flatten_arap(const DiscPatch& patch, std::vector<Vec2>
     // area (Smith & Schaefer 2015's injective step bound), so ARAP never adds a flip.
     direction[0] = Vec2::Zero();
     for (Eigen::Index v = 0; v < nfree; ++v) {
-      direction[static_cast<std::size_t>(v) + 1] = Vec2(x[v], y[v]) - initial[static_cast<std::size_t>(v) + 1];
+      direction[static_cast<std::size_t>(v) + 1] = Vec2(xy(v, 0), xy(v, 1)) - initial[static_cast<std::size_t>(v) + 1];
     }
     const double step = std::min(1.0, 0.8 * max_injective_step(patch, initial, direction));
     for (std::size_t v = 0; v < n; ++v) initial[v] += step * direction[v];

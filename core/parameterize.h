@@ -19,7 +19,8 @@ enum class UvMethod {
 const char* uv_method_name(UvMethod method);
 
 struct UvOptions {
-  UvMethod method = UvMethod::kBff;
+  /// ARAP from BFF: the lowest area distortion measured (bench/uv_bench.cpp, seam table).
+  UvMethod method = UvMethod::kArap;
   /// ARAP only: local/global iterations, 0..1000 (0 returns the BFF start).
   int arap_iterations = 10;
   /// Gap between packed charts, as a fraction of the square root of the total chart area.
