@@ -168,7 +168,7 @@ std::vector<Component> collect_components(const HalfedgeMesh& mesh, const Topolo
 
 // Components below this size run their sources on the calling thread: starting threads
 // costs more than the work.
-constexpr std::size_t kMinVerticesPerThread = 20000;
+constexpr std::size_t kMinVerticesPerThread = 5000;
 
 // The AGD estimate on one component, divided by sqrt(area), indexed like comp.vertices.
 // Farthest-point sampling starts from the vertex farthest from the component's lowest id (an

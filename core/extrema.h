@@ -63,7 +63,7 @@ struct ExtremaOptions {
   /// Must be >= 2.
   std::size_t samples = 16;
   /// Threads for the per-source Dijkstra runs (0 = hardware concurrency); components under
-  /// 20k vertices use one. The result does not depend on it (bit-identical).
+  /// 10k vertices (or cells) use one. The result does not depend on it (bit-identical).
   unsigned threads = 0;
 };
 
