@@ -10,7 +10,11 @@ packages=(build-essential cmake ninja-build pkg-config ccache
           libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev draco
           libspdlog-dev doctest-dev libeigen3-dev curl ca-certificates)
 if [[ "${1:-}" == "--test" ]]; then
-  packages+=(clang libclang-rt-14-dev nodejs npm)
+  packages+=(clang libclang-rt-14-dev)
+  # Node.js may come from elsewhere than Debian (Debian's npm then conflicts with it): only
+  # install Debian's when the commands are missing.
+  command -v node >/dev/null 2>&1 || packages+=(nodejs)
+  command -v npm >/dev/null 2>&1 || packages+=(npm)
 fi
 
 missing=()
