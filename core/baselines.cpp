@@ -226,17 +226,27 @@ Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& grap
         brow[t.index()] = kNone;
       }
     }
-    // Grow every partial tree along shortest paths (multi-source Dijkstra seeded with row).
+    // Grow every partial tree along shortest paths: a multi-source Dijkstra seeded with the
+    // whole row. After merging nearly every vertex is a seed, so the seeds are sorted once and
+    // streamed in order alongside a heap that only holds improvements; that keeps the heap
+    // small instead of pushing V entries per subset.
     initial.clear();
     for (std::size_t v = 0; v < nv; ++v) {
       if (row[v] < kInf) initial.emplace_back(row[v], static_cast<std::uint32_t>(v));
     }
-    MinQueue queue(std::greater<>(), std::move(initial));
-    initial = {};
-    while (!queue.empty()) {
+    std::sort(initial.begin(), initial.end());
+    std::size_t next_seed = 0;
+    MinQueue queue;
+    while (next_seed < initial.size() || !queue.empty()) {
       if (cancel.poll(polls)) return cancelled_error("optimal seam");
-      const auto [d, v] = queue.top();
-      queue.pop();
+      Entry top;
+      if (queue.empty() || (next_seed < initial.size() && initial[next_seed] < queue.top())) {
+        top = initial[next_seed++];
+      } else {
+        top = queue.top();
+        queue.pop();
+      }
+      const auto [d, v] = top;
       if (d > row[v]) continue;
       if (is_terminal[v] && v != source) continue;  // reached as a leaf, never passed through
       for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {

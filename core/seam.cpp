@@ -153,8 +153,8 @@ std::vector<EdgeId> widen_single_edge(const HalfedgeMesh& mesh, EdgeId e) {
 }
 
 Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology& topo, std::uint32_t component,
-                                        std::span<const VertexId> extrema, const SeamOptions& options,
-                                        SeamStats& stats, const CancelToken& cancel) {
+                                        std::span<const FaceId> faces, std::span<const VertexId> extrema,
+                                        const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
   ComponentSeam out;
   auto start = Clock::now();
   const ComponentInfo& info = topo.components[component];
@@ -163,7 +163,7 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
   const bool whole = topo.components.size() == 1;
   ComponentMesh extracted;
   if (!whole) {
-    SEAM_TRY(extracted, extract_component(mesh, topo, component));
+    SEAM_TRY(extracted, extract_faces(mesh, faces));
   }
   const HalfedgeMesh& sub = whole ? mesh : extracted.mesh;
   auto to_local = [&](VertexId v) {
@@ -324,12 +324,23 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
 
   std::vector<std::vector<VertexId>> per_component(topo.components.size());
   for (VertexId x : result.extrema) per_component[topo.vertex_component[x]].push_back(x);
+  // Faces bucketed by component once, so many small parts cost O(F) in total, not O(C F).
+  std::vector<std::vector<FaceId>> component_faces(topo.components.size() > 1 ? topo.components.size() : 0);
+  if (topo.components.size() > 1) {
+    for (std::size_t c = 0; c < topo.components.size(); ++c) component_faces[c].reserve(topo.components[c].faces);
+    for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+      component_faces[topo.face_component[FaceId(f)]].push_back(FaceId(f));
+    }
+  }
 
   std::vector<VertexId> extra_terminals;
   for (std::uint32_t c = 0; c < topo.components.size(); ++c) {
     if (cancel.is_cancelled()) return cancelled_error("seam");
     SEAM_TRY(ComponentSeam part,
-             seam_on_component(mesh, topo, c, per_component[c], options, result.stats, cancel));
+             seam_on_component(mesh, topo, c,
+                               topo.components.size() > 1 ? std::span<const FaceId>(component_faces[c])
+                                                          : std::span<const FaceId>(),
+                               per_component[c], options, result.stats, cancel));
     result.seam_edges.insert(result.seam_edges.end(), part.seam_edges.begin(), part.seam_edges.end());
     result.cut_graph_edges.insert(result.cut_graph_edges.end(), part.cut_graph_edges.begin(),
                                   part.cut_graph_edges.end());

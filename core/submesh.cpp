@@ -33,6 +33,32 @@ Result<ComponentMesh> extract_component(const HalfedgeMesh& mesh, const Topology
   return out;
 }
 
+Result<ComponentMesh> extract_faces(const HalfedgeMesh& mesh, std::span<const FaceId> faces) {
+  ComponentMesh out;
+  out.face_to_parent.assign(faces.begin(), faces.end());
+  out.to_parent.reserve(3 * faces.size());
+  for (FaceId f : faces) {
+    for (VertexId v : mesh.face_vertices(f)) out.to_parent.push_back(v);
+  }
+  std::sort(out.to_parent.begin(), out.to_parent.end());
+  out.to_parent.erase(std::unique(out.to_parent.begin(), out.to_parent.end()), out.to_parent.end());
+  auto local = [&](VertexId v) {
+    return static_cast<std::uint32_t>(std::lower_bound(out.to_parent.begin(), out.to_parent.end(), v) -
+                                      out.to_parent.begin());
+  };
+  std::vector<Vec3> positions;
+  positions.reserve(out.to_parent.size());
+  for (VertexId v : out.to_parent) positions.push_back(mesh.position(v));
+  std::vector<Triangle> triangles;
+  triangles.reserve(faces.size());
+  for (FaceId f : faces) {
+    const auto vs = mesh.face_vertices(f);
+    triangles.push_back({local(vs[0]), local(vs[1]), local(vs[2])});
+  }
+  SEAM_TRY(out.mesh, build_halfedge_mesh(positions, triangles));
+  return out;
+}
+
 Result<ConedMesh> cone_boundary_loops(const HalfedgeMesh& mesh) {
   ConedMesh out;
   out.num_original_vertices = mesh.num_vertices();

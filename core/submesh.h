@@ -24,6 +24,12 @@ struct ComponentMesh {
 /// Errors: kInvalidArgument (component out of range). O(V + F) of the parent.
 Result<ComponentMesh> extract_component(const HalfedgeMesh& mesh, const Topology& topology, std::uint32_t component);
 
+/// Extracts the given faces (in the given order) and the vertices they use as a mesh.
+/// Costs O(f log f) in the number of faces only, so extracting every component of a mesh with
+/// many small parts stays O(F log F) in total. Errors: those of build_halfedge_mesh (e.g.
+/// kNonManifoldVertex when the faces are not a whole component and meet at a vertex only).
+Result<ComponentMesh> extract_faces(const HalfedgeMesh& mesh, std::span<const FaceId> faces);
+
 /// `mesh` closed by one virtual apex vertex per boundary loop, joined to every vertex of that
 /// loop by a fan of triangles. Vertices of `mesh` keep their ids; apexes follow them, one per
 /// loop in Topology::boundary_loops order. Edge ids differ from `mesh` (use to_original_edges).
