@@ -330,9 +330,9 @@ std::vector<Peak> persistent_maxima(const EdgeGraph& graph, const Component& com
 // of at least 2 * kCoarseCellsMin vertices run the sampling, the AGD and the merge tree on a
 // graph of Voronoi cells of ~n / kVerticesPerCell seeds (at least kCoarseCellsMin),
 // which costs about three Dijkstra passes on the mesh instead of samples + 4. A cell is at
-// most a few edges across, ~0.004 sqrt(area) at the minimum count, an order of magnitude
+// most a few edges across, ~0.006 sqrt(area) at the minimum count, an order of magnitude
 // below the default threshold; tips and saddles are reported at the cells' seed vertices.
-constexpr std::size_t kCoarseCellsMin = 20000;
+constexpr std::size_t kCoarseCellsMin = 8000;
 constexpr std::size_t kVerticesPerCell = 32;
 
 struct CoarseLevel {

@@ -23,12 +23,12 @@
 //    prominent max_count survive.
 //
 // 4. Multi-resolution, as the paper's §6 proposes ("find all big protrusions at low
-//    resolution"): a component of 40k vertices or more runs steps 1-3 on the graph of the
-//    cells (grown breadth-first) of ~V/32 (at least 20k) seed vertices, picked by a fixed
+//    resolution"): a component of 16k vertices or more runs steps 1-3 on the graph of the
+//    cells (grown breadth-first) of ~V/32 (at least 8k) seed vertices, picked by a fixed
 //    hash of the vertex id with probability proportional to vertex area. Cell-graph edges
 //    are seed-to-seed path lengths, rescaled by the ratio to exact distances from one seed
 //    so prominences keep the exact path's scale. Tips and saddles are reported at the
-//    cells' seeds (an error of a few edges, ~0.004 sqrt(area) at 20k cells).
+//    cells' seeds (an error of a few edges, ~0.006 sqrt(area) at 8k cells).
 //
 // Properties: deterministic (ties are broken by vertex id); invariant to rigid motion and
 // uniform scale (only geodesic distances and area ratios enter); insensitive to the
@@ -104,7 +104,7 @@ Result<std::vector<VertexId>> find_extrema(const HalfedgeMesh& mesh, const Extre
 
 /// The per-vertex function whose maxima detect_extrema() ranks: the area-weighted
 /// farthest-point estimate of the average geodesic distance, divided by sqrt(component
-/// area) (so it is scale free); on components of 40k vertices or more, the value of the
+/// area) (so it is scale free); on components of 16k vertices or more, the value of the
 /// vertex's coarse cell (step 4). Isolated vertices get 0. Errors and complexity as
 /// detect_extrema(). Exposed for tests and visualisation.
 Result<VertexData<double>> average_geodesic_distance(const HalfedgeMesh& mesh, std::size_t samples,
