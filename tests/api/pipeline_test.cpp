@@ -10,6 +10,7 @@
 #include "api/gltf_reader.h"
 #include "api/gltf_writer.h"
 #include "api/pipeline.h"
+#include "api/tinygltf_check.h"
 #include "core/halfedge_mesh.h"
 #include "core/topology.h"
 #include "core/weld.h"
@@ -124,6 +125,12 @@ TEST_CASE("the same seam from GLB, split-vertex GLB and Draco GLB of a real mesh
 
     const PrimitiveData cut = read(out.glb);
     CHECK(cut.draco == (asset == &*draco));
+    // A second reader (tinygltf, decoding Draco itself) sees the same vertex and index counts.
+    const TinygltfSummary tiny = load_with_tinygltf(out.glb);
+    CHECK_MESSAGE(tiny.ok, tiny.error);
+    CHECK(tiny.vertices == cut.mesh.positions.size());
+    CHECK(tiny.indices == 3 * cut.mesh.triangles.size());
+    CHECK(tiny.position_has_data);
     CHECK(cut.mesh.triangles.size() == in.mesh.triangles.size());
     // Every output vertex is an input vertex: its position is one of the input positions.
     std::set<P3> input_positions;
