@@ -350,3 +350,35 @@ TEST_CASE("property: random extrema sets never crash and always cut a disc") {
   }
   CHECK(runs == 300);
 }
+
+TEST_CASE("many small components: each is cut on its own, extrema go to their component") {
+  fx::Soup soup = fx::icosphere(1);
+  for (int i = 1; i < 40; ++i) {
+    const fx::Soup part = i % 3 == 0 ? fx::torus(8, 6, 0.4, 0.15) : i % 3 == 1 ? fx::disc(2, 8) : fx::icosphere(1);
+    soup = fx::join(soup, fx::translated(part, Vec3(3.0 * i, 0, 0)));
+  }
+  const HalfedgeMesh mesh = build(soup);
+  const Topology topo = compute_topology(mesh);
+  REQUIRE(topo.components.size() == 40);
+  // Two extrema on every fourth component (first vertices of that component).
+  std::vector<VertexId> extrema;
+  std::vector<int> taken(40, 0);
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+    const auto c = topo.vertex_component[VertexId(v)];
+    if (c % 4 == 0 && taken[c] < 2 && !mesh.is_boundary(VertexId(v))) {
+      extrema.push_back(VertexId(v));
+      ++taken[c];
+    }
+  }
+  for (SeamMethod m : kMethods) {
+    CAPTURE(std::string(name_of(m)));
+    auto r = compute_seam(mesh, extrema, {.method = m});
+    REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
+    check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
+    // Seam edges never join two components.
+    for (EdgeId e : r->seam_edges) {
+      const HalfedgeId h = HalfedgeMesh::halfedge(e);
+      CHECK(topo.vertex_component[mesh.tail(h)] == topo.vertex_component[mesh.head(h)]);
+    }
+  }
+}
