@@ -446,7 +446,10 @@ ApiResult<GltfDocument> parse_glb(std::string_view bytes, const ReadLimits& limi
   const std::uint64_t json_length = read_u32(bytes.data() + 12);
   if (read_u32(bytes.data() + 16) != kChunkJson) return malformed("the first GLB chunk is not JSON");
   if (20 + json_length > bytes.size()) return malformed("the GLB JSON chunk length runs past the end of the file");
-  SEAM_TRY(GltfDocument doc, parse_json_document(bytes.substr(20, json_length), limits));
+  // The spec pads the JSON chunk with spaces; some exporters pad with NULs. Accept both.
+  std::string_view json_text = bytes.substr(20, json_length);
+  while (!json_text.empty() && (json_text.back() == '\0' || json_text.back() == ' ')) json_text.remove_suffix(1);
+  SEAM_TRY(GltfDocument doc, parse_json_document(json_text, limits));
   std::optional<std::string_view> bin;
   std::size_t pos = 20 + json_length;
   if (pos + 8 <= bytes.size()) {
