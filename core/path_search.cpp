@@ -114,6 +114,44 @@ Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distan
   return Ok{};
 }
 
+Status PathSearch::run_astar(VertexId target, std::span<const Vec3> positions, const CancelToken& cancel) {
+  // The heap holds (g + h, v); sources were pushed with h = 0, so re-key them first.
+  const Vec3 goal = positions[target.index()];
+  auto estimate = [&](std::uint32_t v) { return (positions[v] - goal).norm(); };
+  for (auto& entry : heap_) entry.first += estimate(entry.second);
+  std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
+  std::uint32_t polls = 0;
+  const auto& g = *graph_;
+  const std::uint32_t t = target.value();
+  while (!heap_.empty()) {
+    if (cancel.poll(polls)) return cancelled_error("shortest-path search");
+    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+    const std::uint32_t v = heap_.back().second;
+    heap_.pop_back();
+    if (settled_[v]) continue;
+    // With a consistent estimate the first pop of v carries its final distance.
+    settled_[v] = 1;
+    settled_order_.push_back(VertexId(v));
+    if (v == t) break;
+    if (mark_[v] == kBlocked && !is_source_[v]) continue;
+    const double d = dist_[v];
+    for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {
+      const std::uint32_t w = g.head[slot].value();
+      if (mark_[w] == kForbidden) continue;
+      touch(w);
+      if (settled_[w]) continue;
+      const double nd = d + g.weight[slot];
+      if (nd < dist_[w]) {
+        dist_[w] = nd;
+        parent_[w] = g.halfedge[slot];
+        heap_.emplace_back(nd + estimate(w), w);
+        std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+      }
+    }
+  }
+  return Ok{};
+}
+
 std::vector<HalfedgeId> PathSearch::path_to(const HalfedgeMesh& mesh, VertexId v) const {
   std::vector<HalfedgeId> path;
   if (!reached(v)) return path;

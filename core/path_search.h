@@ -45,6 +45,10 @@ class PathSearch {
              const CancelToken& cancel = CancelToken::none()) {
     return run_impl(targets, max_distance, false, cancel);
   }
+  /// A* towards one target with the straight-line distance to `positions[target]` as the
+  /// estimate. Valid only when every edge weighs at least its Euclidean length (the default
+  /// weights); distances and paths are then exactly Dijkstra's. Errors: kCancelled.
+  Status run_astar(VertexId target, std::span<const Vec3> positions, const CancelToken& cancel = CancelToken::none());
   /// Like run() without targets, but also stops once `max_settled` vertices are settled.
   Status run_limited(double max_distance, std::size_t max_settled, const CancelToken& cancel = CancelToken::none()) {
     max_settled_ = max_settled;

@@ -200,7 +200,7 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
   std::vector<std::uint32_t> removed_stamp(mesh.num_edges(), 0);
   std::uint32_t stamp = 0;
   std::vector<std::uint8_t> in_rest(nv, 0);
-  std::vector<std::uint64_t> failed;  // signatures of cut pieces that did not improve (sorted)
+  std::size_t work = 0;  // region vertices times port subsets solved so far
 
   for (int pass = 0; pass < options.max_passes; ++pass) {
     bool improved = false;
@@ -286,14 +286,6 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
       ++index;
       ++st.pieces_tried;
       if (!region_ok || ports.size() < 2 || ports.size() > options.max_ports) continue;
-      // A piece cut exactly as before, which did not improve then, is not solved again (its
-      // surroundings may have changed a little; the next pass's new pieces still get tried).
-      std::uint64_t signature = 1469598103934665603ull;
-      auto mix = [&](std::uint64_t x) { signature = (signature ^ x) * 1099511628211ull; };
-      for (VertexId p : ports) mix(p.value());
-      for (VertexId v : removed_vertices) mix(v.value());
-      if (std::binary_search(failed.begin(), failed.end(), signature)) continue;
-      auto remember_failure = [&] { failed.insert(std::upper_bound(failed.begin(), failed.end(), signature), signature); };
       // The rest of the tree falls into one subtree per port.
       std::vector<EdgeId> rest;
       for (EdgeId e : current) {
@@ -340,14 +332,13 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
         }
       }
       for (VertexId v : rest_vertices) in_rest[v.index()] = 0;
+      work += region.size() << ports.size();
+      if (work > options.max_work) break;
       std::vector<EdgeId> joining;
       bool cancelled = false;
       const double cost = solver.solve(region, obstacle, terminal, port_mask, ports.size(), joining, cancel, cancelled);
       if (cancelled) return cancelled_error("seam refinement");
-      if (!(cost < removed_length - 1e-9 * (1.0 + removed_length))) {
-        remember_failure();
-        continue;
-      }
+      if (!(cost < removed_length - 1e-9 * (1.0 + removed_length))) continue;
       std::vector<EdgeId> candidate = rest;
       candidate.insert(candidate.end(), joining.begin(), joining.end());
       std::sort(candidate.begin(), candidate.end());
@@ -358,7 +349,6 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
       const double length = tree_length(mesh, edge_weights, candidate);
       if (!(length < current_length - 1e-9 * (1.0 + current_length)) ||
           !check_full_component_tree(mesh, candidate, terminals).ok()) {
-        remember_failure();
         continue;
       }
       current = std::move(candidate);
@@ -371,7 +361,7 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
       pieces = pieces_of(topo);
       --index;
     }
-    if (!improved) break;
+    if (!improved || work > options.max_work) break;
   }
   st.length_after = current_length;
   return current;

@@ -20,6 +20,9 @@ struct RefineOptions {
   /// Bound on a piece's search region (vertices): a larger region is cut down by halving the
   /// reach (up to 4 times) and the piece is skipped if it is still too large.
   std::size_t max_region = 3000;
+  /// Total work budget: the sum over solved pieces of region size times 2^ports. Refinement
+  /// stops (keeping what it gained) when it is spent, which bounds its time on large meshes.
+  std::size_t max_work = 4000000;
   /// How much of each branch at a piece is cut loose, as a fraction of the piece's longest
   /// branch; the search region is everything within that distance of the cut parts.
   double reach = 0.5;

@@ -343,7 +343,11 @@ Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGra
       search.reset();
       search.add_source(a);
       const VertexId target[] = {b};
-      if (auto s = search.run(target, PathSearch::kUnreached, cancel); !s.ok()) return s.take_error();
+      // With Euclidean weights the straight-line distance guides the search (A*), which
+      // visits a narrow band around the branch instead of a ball.
+      auto s = edge_weights.empty() ? search.run_astar(b, mesh.positions(), cancel)
+                                    : search.run(target, PathSearch::kUnreached, cancel);
+      if (!s.ok()) return s.take_error();
       std::vector<HalfedgeId> path;
       if (search.reached(b)) {
         path = search.path_to(mesh, b);

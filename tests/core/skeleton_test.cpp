@@ -154,6 +154,14 @@ TEST_CASE("Algorithm 3's raw skeleton reaches every terminal and straightening k
     CHECK(s.mesh.head(path.back()) == straight->nodes[straight->links[l][1]]);
     for (std::size_t i = 0; i + 1 < path.size(); ++i) CHECK(node_vertices.count(s.mesh.head(path[i]).value()) == 0);
   }
+  // Branches do not cross or touch: their inner vertices are pairwise disjoint.
+  std::set<std::uint32_t> inner;
+  for (const auto& path : straight->paths) {
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) CHECK(inner.insert(s.mesh.head(path[i]).value()).second);
+  }
+  // Straightening does not lengthen the skeleton's branches.
+  CHECK(topology_length(s.mesh, s.weights, *straight) <=
+        topology_length(s.mesh, s.weights, *topo) + 1e-9);
   CHECK(check_full_component_tree(s.mesh, topology_edges(*straight), s.paths.terminals).ok());
 }
 
