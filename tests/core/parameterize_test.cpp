@@ -365,3 +365,21 @@ TEST_CASE("the camel cut by the skeleton seam: the default map meets the issue's
   CHECK(best->distortion.area_geometric < 0.5 * lscm->distortion.area_geometric);
   CHECK(best->distortion.area < 0.1 * lscm->distortion.area);
 }
+
+TEST_CASE("tiny charts: a lone triangle (no interior vertex) and an isolated vertex") {
+  Soup s;
+  s.positions = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0.5, 1, 1), Vec3(7, 7, 7)};  // vertex 3 unused
+  s.triangles = {{0, 1, 2}};
+  const HalfedgeMesh mesh = build(s);
+  for (UvMethod m : kAllMethods) {
+    CAPTURE(std::string(uv_method_name(m)));
+    auto r = parameterize(mesh, {.method = m});
+    REQUIRE(r.ok());
+    check_in_unit_square(*r);
+    CHECK(r->charts == 1);
+    CHECK(r->distortion.flipped == 0);
+    CHECK(r->distortion.area_geometric == doctest::Approx(1.0).epsilon(1e-5));
+    CHECK(r->distortion.angle == doctest::Approx(1.0).epsilon(1e-5));
+    CHECK(r->uv[VertexId(std::size_t{3})] == Vec2(0, 0));
+  }
+}
