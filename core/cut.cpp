@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cut_check.h"
 #include "core/topology.h"
 
 namespace seam::core {
@@ -139,6 +140,70 @@ Status check_is_disc(const HalfedgeMesh& mesh) {
                             std::to_string(info.genus),
                         {first_face});
     }
+  }
+  return Ok{};
+}
+
+Status check_cut_is_disc(const HalfedgeMesh& mesh, std::span<const EdgeId> edges) {
+  const std::size_t ne = mesh.num_edges();
+  const std::size_t nh = mesh.num_halfedges();
+  const std::size_t nf = mesh.num_faces();
+  std::vector<std::uint8_t> is_cut(ne, 0);
+  for (EdgeId e : edges) {
+    if (!e.valid() || e.index() >= ne) {
+      return make_error(ErrorCode::kInvalidArgument, "cut edge " + std::to_string(e.value()) + " is out of range",
+                        {e.value()});
+    }
+    is_cut[e.index()] = 1;
+  }
+  // Wedges (corner union-find, as in cut_along_edges) and face components (face union-find
+  // across uncut interior edges), in one pass over the edges.
+  std::vector<std::uint32_t> corner(nh);
+  std::iota(corner.begin(), corner.end(), 0u);
+  std::vector<std::uint32_t> face(nf);
+  std::iota(face.begin(), face.end(), 0u);
+  auto unite = [](std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+    a = find_root(parent, a);
+    b = find_root(parent, b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  };
+  for (std::size_t e = 0; e < ne; ++e) {
+    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
+    const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
+    if (is_cut[e] || mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
+    unite(corner, a.value(), mesh.next(b).value());
+    unite(corner, b.value(), mesh.next(a).value());
+    unite(face, mesh.face(a).value(), mesh.face(b).value());
+  }
+  // Euler characteristic per component: wedges - edges (cut interior edges twice) + faces.
+  std::vector<std::int64_t> chi(nf, 0);
+  for (std::size_t f = 0; f < nf; ++f) ++chi[find_root(face, static_cast<std::uint32_t>(f))];
+  for (std::size_t e = 0; e < ne; ++e) {
+    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
+    const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
+    const HalfedgeId inside = mesh.is_boundary(a) ? b : a;
+    const bool interior = !mesh.is_boundary(a) && !mesh.is_boundary(b);
+    chi[find_root(face, mesh.face(inside).value())] -= 1;
+    // A cut edge becomes one edge on each side, and the sides may end up in different parts.
+    if (interior && is_cut[e]) chi[find_root(face, mesh.face(b).value())] -= 1;
+    if (interior && is_cut[e] && find_root(corner, a.value()) == find_root(corner, mesh.next(b).value()) &&
+        find_root(corner, b.value()) == find_root(corner, mesh.next(a).value())) {
+      return make_error(ErrorCode::kTopologyViolation,
+                        "cut edge " + std::to_string(e) + " cannot open: neither end meets another cut edge or "
+                        "the boundary (a slit)",
+                        {static_cast<std::uint32_t>(e)});
+    }
+  }
+  for (std::size_t h = 0; h < nh; ++h) {
+    if (mesh.is_boundary(HalfedgeId(h)) || find_root(corner, static_cast<std::uint32_t>(h)) != h) continue;
+    ++chi[find_root(face, mesh.face(HalfedgeId(h)).value())];  // one vertex per wedge
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (find_root(face, static_cast<std::uint32_t>(f)) != f || chi[f] == 1) continue;
+    return make_error(ErrorCode::kTopologyViolation,
+                      "the part containing face " + std::to_string(f) + " is not a disc after the cut: Euler "
+                      "characteristic " + std::to_string(chi[f]) + " (a disc has 1)",
+                      {static_cast<std::uint32_t>(f)});
   }
   return Ok{};
 }

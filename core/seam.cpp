@@ -33,6 +33,7 @@
 
 #include "core/baselines.h"
 #include "core/cut.h"
+#include "core/cut_check.h"
 #include "core/cut_graph.h"
 #include "core/forest.h"
 #include "core/geodesic.h"
@@ -374,9 +375,9 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
   std::vector<EdgeId> all = result.seam_edges;
   all.insert(all.end(), result.cut_graph_edges.begin(), result.cut_graph_edges.end());
   sort_unique(all);
-  auto cut = cut_along_edges(mesh, all);
-  if (!cut.ok()) return cut.take_error();
-  if (auto disc = check_is_disc(cut->mesh); !disc.ok()) {
+  // Counting wedges, edges and faces per part gives the same answer as building the cut mesh
+  // (core/cut_check.h) at a fraction of the cost on large meshes.
+  if (auto disc = check_cut_is_disc(mesh, all); !disc.ok()) {
     Error error = disc.take_error();
     error.code = ErrorCode::kTopologyViolation;
     error.message = "the seam does not open the mesh into discs: " + error.message;

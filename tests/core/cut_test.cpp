@@ -1,8 +1,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <random>
 
 #include "core/cut.h"
+#include "core/cut_check.h"
 #include "core/geodesic.h"
 #include "core/topology.h"
 #include "fixtures.h"
@@ -157,4 +159,35 @@ TEST_CASE("real mesh: cutting the CGAL hand along a long path keeps every face a
   check_correspondence(mesh, *cut);
   CHECK(cut->mesh.num_vertices() == mesh.num_vertices() + edges.size() - 1);
   CHECK(check_is_disc(cut->mesh).ok());
+}
+
+TEST_CASE("check_cut_is_disc agrees with cutting and checking, on random edge sets") {
+  std::mt19937 rng(99);
+  const fx::Soup soups[] = {fx::icosphere(1), fx::torus(8, 6), fx::open_cylinder(8, 3), fx::disc(3, 8),
+                            fx::join(fx::icosphere(0), fx::translated(fx::disc(2, 6), Vec3(4, 0, 0)))};
+  int agreed = 0;
+  for (const auto& soup : soups) {
+    const HalfedgeMesh mesh = build(soup);
+    const EdgeGraph graph = build_edge_graph(mesh);
+    for (int trial = 0; trial < 80; ++trial) {
+      // Unions of 1-4 shortest paths between random vertices: trees, cycles, slits, forests.
+      std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(mesh.num_vertices() - 1));
+      std::vector<EdgeId> edges;
+      const int paths = 1 + trial % 4;
+      for (int p = 0; p < paths; ++p) {
+        const VertexId src[] = {VertexId(pick(rng))};
+        auto tree = dijkstra(graph, src);
+        REQUIRE(tree.ok());
+        for (HalfedgeId h : trace_path(mesh, *tree, VertexId(pick(rng)))) edges.push_back(HalfedgeMesh::edge(h));
+      }
+      const Status fast = check_cut_is_disc(mesh, edges);
+      auto cut = cut_along_edges(mesh, edges);
+      const bool slow = cut.ok() && check_is_disc(cut->mesh).ok();
+      CAPTURE(trial);
+      CHECK(fast.ok() == slow);
+      if (!cut.ok()) CHECK(!fast.ok());
+      agreed += fast.ok() == slow;
+    }
+  }
+  CHECK(agreed == 400);
 }
