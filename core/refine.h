@@ -22,10 +22,10 @@ struct RefineOptions {
   std::size_t max_region = 3000;
   /// Total work budget: the sum over solved pieces of region size times 2^ports. Refinement
   /// stops (keeping what it gained) when it is spent, which bounds its time on large meshes.
-  std::size_t max_work = 4000000;
+  std::size_t max_work = 1000000;
   /// How much of each branch at a piece is cut loose, as a fraction of the piece's longest
   /// branch; the search region is everything within that distance of the cut parts.
-  double reach = 0.5;
+  double reach = 1.0;
 };
 
 struct RefineStats {
