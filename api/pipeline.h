@@ -36,7 +36,8 @@ struct SeamParams {
   std::uint32_t mesh = 0;
   std::uint32_t primitive = 0;
   core::SeamMethod method = core::SeamMethod::kSkeleton;
-  std::optional<core::UvMethod> uv = core::UvMethod::kBff;  ///< nullopt = "none"
+  /// nullopt = "none"; the default is the core's default (the lowest-distortion flip-free method).
+  std::optional<core::UvMethod> uv = core::UvOptions{}.method;
   OutputFormat output = OutputFormat::kJson;
   std::optional<bool> draco;  ///< nullopt = same as the input
   double weld_epsilon = 0.0;
