@@ -35,23 +35,28 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
   std::atomic<std::size_t> next{0};
   std::vector<Error> errors(k);
   std::vector<std::uint8_t> failed(k, 0);
+  // Distances are symmetric, so the search from terminal i only has to settle terminals
+  // i+1..k-1 (rows j < i are mirrored below) and the last terminal needs no search: about
+  // half the work of k full searches, since each stops once its later terminals are settled.
   auto work = [&] {
-    for (std::size_t i = next++; i < k; i = next++) {
+    for (std::size_t i = next++; i + 1 < k; i = next++) {
       const VertexId source[] = {terminals[i]};
-      auto tree = dijkstra(graph, source, {.targets = terminals}, cancel);
+      const std::span<const VertexId> later = terminals.subspan(i + 1);
+      auto tree = dijkstra(graph, source, {.targets = later}, cancel);
       if (!tree.ok()) {
         errors[i] = tree.take_error();
         failed[i] = 1;
         continue;
       }
-      for (std::size_t j = 0; j < k; ++j) {
+      result.distance[i * k + i] = 0.0;
+      for (std::size_t j = i + 1; j < k; ++j) {
         result.distance[i * k + j] = tree->distance[terminals[j].index()];
-        if (j > i) result.path[i * k + j] = trace_path(mesh, *tree, terminals[j]);
+        result.path[i * k + j] = trace_path(mesh, *tree, terminals[j]);
       }
     }
   };
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const unsigned n = static_cast<unsigned>(std::min<std::size_t>(k, threads == 0 ? hw : threads));
+  const unsigned n = static_cast<unsigned>(std::min<std::size_t>(k - 1, threads == 0 ? hw : threads));
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < n; ++t) pool.emplace_back(work);
   work();
@@ -59,6 +64,7 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
   for (std::size_t i = 0; i < k; ++i) {
     if (failed[i]) return errors[i];
   }
+  result.distance[(k - 1) * k + (k - 1)] = 0.0;
   // Use the lower-index row's path for both directions so i->j and j->i are the same edges.
   for (std::size_t i = 0; i < k; ++i) {
     for (std::size_t j = 0; j < i; ++j) {
