@@ -97,6 +97,7 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
     if (straight.error().code == ErrorCode::kCancelled) return straight.take_error();
     tr.fallback = true;
     tr.fallback_reason = straight.error().message;
+    result.stats.fallback = true;
     const auto start = std::chrono::steady_clock::now();
     SEAM_TRY(auto edges, star_tree(mesh, graph, terminals, cancel));
     result.stats.straighten_ms += ms_since(start);

@@ -26,6 +26,9 @@ struct SkeletonStats {
   double length_before_refine = 0;
   std::size_t removals = 0;           ///< repeated visits removed by Algorithm 2
   std::size_t rejected_removals = 0;  ///< removals refused because the tour would self-intersect
+  /// The paper's steps could not produce a full-component tree on this input (a degenerate
+  /// tour or skeleton) and the terminal-avoiding star tree was returned instead.
+  bool fallback = false;
 };
 
 struct SkeletonResult {
