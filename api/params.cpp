@@ -159,6 +159,9 @@ ApiResult<SeamParams> params_from_json(const json& params) {
     } else if (key == "draco") {
       if (!v.is_boolean()) return invalid("draco", "draco must be true or false");
       out.draco = v.get<bool>();
+    } else if (key == "refine") {
+      if (!v.is_boolean()) return invalid("refine", "refine must be true or false");
+      out.refine = v.get<bool>();
     } else if (key == "weld_epsilon") {
       if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0) {
         return invalid("weld_epsilon", "weld_epsilon must be a finite number >= 0");
@@ -166,7 +169,7 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       out.weld_epsilon = v.get<double>();
     } else {
       return invalid(key, "unknown parameter \"" + key.substr(0, 60) +
-                              "\" (known: extrema, mesh, primitive, method, uv, output, draco, weld_epsilon)");
+                              "\" (known: extrema, mesh, primitive, method, uv, output, draco, refine, weld_epsilon)");
     }
   }
   return out;
@@ -201,10 +204,10 @@ ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string,
         return invalid(key, key + " must be a non-negative integer");
       }
       params[key] = std::stoull(value);
-    } else if (key == "draco") {
+    } else if (key == "draco" || key == "refine") {
       if (value == "true" || value == "1") params[key] = true;
       else if (value == "false" || value == "0") params[key] = false;
-      else return invalid("draco", "draco must be true or false");
+      else return invalid(key, key + " must be true or false");
     } else if (key == "weld_epsilon") {
       std::size_t used = 0;
       double d = 0;

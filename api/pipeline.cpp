@@ -214,6 +214,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     t = Clock::now();
     core::SeamOptions seam_options;
     seam_options.method = params.method;
+    seam_options.refine = params.refine;
     auto seam = core::compute_seam(mesh, extrema, seam_options, cancel);
     if (!seam.ok()) return map_core_error(seam.error(), canon, seam.error().code);
     timings["seam"] = ms_since(t);
