@@ -15,7 +15,9 @@ cat <<MSG
 seamd is starting on http://$bind:$port  (Ctrl-C to stop)
 Try it with the bundled sample (a procedural shape with five protrusions):
 
-  curl -s -F mesh=@$sample -F 'params={"method":"skeleton"}' http://$bind:$port/seam | head -c 600; echo
+  curl -s -F mesh=@$sample -F 'params={"method":"skeleton"}' http://$bind:$port/seam | python3 -m json.tool | grep -v glb_base64 | head -n 60
+
+(the full answer also carries the cut asset as asset.glb_base64; add -F 'params={"output":"glb"}' -o cut.glb for the GLB itself)
 
 MSG
 exec "$seamd" --bind "$bind" --port "$port"
