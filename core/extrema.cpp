@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/geodesic.h"
+#include "core/indexed_heap.h"
 #include "core/topology.h"
 
 namespace seam::core {
@@ -19,71 +20,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::uint32_t kNone = VertexId::kInvalidValue;
 
-// A 4-ary min-heap of local vertex indices keyed by an external distance array, with
-// decrease-key (no stale entries, so the heap never exceeds the component's size). Ties are
-// ordered by index so every run settles vertices in one deterministic order.
-class IndexedHeap {
- public:
-  IndexedHeap(const std::vector<double>& key, std::size_t size) : key_(key), position_(size, kNone) {}
-
-  bool empty() const { return heap_.empty(); }
-
-  void push_or_decrease(std::uint32_t v) {
-    std::uint32_t i = position_[v];
-    if (i == kNone) {
-      i = static_cast<std::uint32_t>(heap_.size());
-      heap_.push_back(v);
-    }
-    sift_up(i, v);
-  }
-
-  std::uint32_t pop() {
-    const std::uint32_t top = heap_[0];
-    position_[top] = kNone;
-    const std::uint32_t last = heap_.back();
-    heap_.pop_back();
-    if (!heap_.empty()) sift_down(0, last);
-    return top;
-  }
-
- private:
-  bool less(std::uint32_t a, std::uint32_t b) const {
-    return key_[a] < key_[b] || (key_[a] == key_[b] && a < b);
-  }
-  void place(std::uint32_t i, std::uint32_t v) {
-    heap_[i] = v;
-    position_[v] = i;
-  }
-  void sift_up(std::uint32_t i, std::uint32_t v) {
-    while (i > 0) {
-      const std::uint32_t parent = (i - 1) / 4;
-      if (!less(v, heap_[parent])) break;
-      place(i, heap_[parent]);
-      i = parent;
-    }
-    place(i, v);
-  }
-  void sift_down(std::uint32_t i, std::uint32_t v) {
-    const auto n = static_cast<std::uint32_t>(heap_.size());
-    while (true) {
-      const std::uint32_t first = 4 * i + 1;
-      if (first >= n) break;
-      std::uint32_t best = first;
-      const std::uint32_t end = std::min(first + 4, n);
-      for (std::uint32_t c = first + 1; c < end; ++c) {
-        if (less(heap_[c], heap_[best])) best = c;
-      }
-      if (!less(heap_[best], v)) break;
-      place(i, heap_[best]);
-      i = best;
-    }
-    place(i, v);
-  }
-
-  const std::vector<double>& key_;
-  std::vector<std::uint32_t> position_;
-  std::vector<std::uint32_t> heap_;
-};
 
 struct Component {
   std::vector<std::uint32_t> vertices;  // ascending vertex ids; local index = position here

@@ -1,5 +1,7 @@
 #include "core/geodesic.h"
 
+#include "core/indexed_heap.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -36,81 +38,6 @@ EdgeGraph build_edge_graph(const HalfedgeMesh& mesh, std::span<const double> edg
   return graph;
 }
 
-namespace {
-
-// A 4-ary min-heap of vertex ids keyed by (distance, id), with decrease-key. Compared with
-// std::priority_queue and lazy deletion it holds each vertex once (V entries instead of up to
-// E), which halves the memory traffic on large meshes; the id in the key makes ties, and so
-// the whole search, deterministic.
-class VertexHeap {
- public:
-  static constexpr std::uint32_t kAbsent = 0xffffffffu;
-  static constexpr std::uint32_t kSettled = 0xfffffffeu;
-
-  VertexHeap(std::size_t n, const std::vector<double>& key) : slot_(n, kAbsent), key_(key) {}
-
-  bool empty() const { return heap_.empty(); }
-  bool settled(std::uint32_t v) const { return slot_[v] == kSettled; }
-
-  // Inserts v, or restores the heap order after key_[v] decreased.
-  void push_or_decrease(std::uint32_t v) {
-    std::uint32_t i = slot_[v];
-    if (i == kAbsent) {
-      i = static_cast<std::uint32_t>(heap_.size());
-      heap_.push_back(v);
-    }
-    sift_up(i, v);
-  }
-
-  std::uint32_t pop() {
-    const std::uint32_t top = heap_[0];
-    slot_[top] = kSettled;
-    const std::uint32_t last = heap_.back();
-    heap_.pop_back();
-    if (!heap_.empty()) sift_down(0, last);
-    return top;
-  }
-
- private:
-  bool less(std::uint32_t a, std::uint32_t b) const {
-    return key_[a] < key_[b] || (key_[a] == key_[b] && a < b);
-  }
-  void place(std::uint32_t i, std::uint32_t v) {
-    heap_[i] = v;
-    slot_[v] = i;
-  }
-  void sift_up(std::uint32_t i, std::uint32_t v) {
-    while (i > 0) {
-      const std::uint32_t parent = (i - 1) / 4;
-      if (!less(v, heap_[parent])) break;
-      place(i, heap_[parent]);
-      i = parent;
-    }
-    place(i, v);
-  }
-  void sift_down(std::uint32_t i, std::uint32_t v) {
-    const auto n = static_cast<std::uint32_t>(heap_.size());
-    while (true) {
-      const std::uint32_t first = 4 * i + 1;
-      if (first >= n) break;
-      std::uint32_t best = first;
-      const std::uint32_t last = std::min(first + 4, n);
-      for (std::uint32_t c = first + 1; c < last; ++c) {
-        if (less(heap_[c], heap_[best])) best = c;
-      }
-      if (!less(heap_[best], v)) break;
-      place(i, heap_[best]);
-      i = best;
-    }
-    place(i, v);
-  }
-
-  std::vector<std::uint32_t> heap_;
-  std::vector<std::uint32_t> slot_;
-  const std::vector<double>& key_;
-};
-
-}  // namespace
 
 Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const VertexId> sources,
                                   const DijkstraOptions& options, const CancelToken& cancel) {
@@ -141,7 +68,7 @@ Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const Vertex
     is_target[t.index()] = 1;
   }
 
-  VertexHeap heap(nv, tree.distance);
+  IndexedHeap heap(tree.distance, nv);
   std::vector<std::uint8_t> is_source(options.blocked.empty() ? 0 : nv, 0);
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const std::uint32_t s = sources[i].value();
@@ -167,7 +94,9 @@ Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const Vertex
     for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
       const std::uint32_t w = graph.head[slot].value();
       const double nd = d + graph.weight[slot];
-      if (nd < tree.distance[w] && !heap.settled(w)) {
+      // With non-negative weights a settled w has distance[w] <= d <= nd, so it is never
+      // decreased again.
+      if (nd < tree.distance[w]) {
         tree.distance[w] = nd;
         tree.parent[w] = graph.halfedge[slot];
         tree.source[w] = tree.source[v];
