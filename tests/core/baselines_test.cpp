@@ -15,12 +15,6 @@ namespace fx = seam::fixtures;
 
 namespace {
 
-HalfedgeMesh build(const fx::Soup& s) {
-  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
-  REQUIRE(mesh.ok());
-  return std::move(mesh).value();
-}
-
 // Irregular positions so that minimum trees are unique (no ties).
 fx::Soup jittered(fx::Soup s, unsigned seed) {
   std::mt19937 rng(seed);
@@ -155,7 +149,7 @@ double brute_force_steiner_sets(const HalfedgeMesh& mesh, std::span<const Vertex
 
 TEST_CASE("optimal equals brute force over edge subsets on a jittered octahedron") {
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const HalfedgeMesh mesh = build(jittered(octahedron(), seed));
+    const HalfedgeMesh mesh = fx::build_fixture(jittered(octahedron(), seed));
     const EdgeGraph graph = build_edge_graph(mesh);
     for (std::uint32_t a = 0; a < 6; ++a) {
       for (std::uint32_t b = a + 1; b < 6; ++b) {
@@ -187,7 +181,7 @@ TEST_CASE("optimal equals brute force over edge subsets on a jittered octahedron
 TEST_CASE("optimal equals brute force over Steiner vertex sets on a jittered icosahedron") {
   std::mt19937 rng(7);
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const HalfedgeMesh mesh = build(jittered(fx::icosphere(0), seed));
+    const HalfedgeMesh mesh = fx::build_fixture(jittered(fx::icosphere(0), seed));
     const EdgeGraph graph = build_edge_graph(mesh);
     for (int trial = 0; trial < 12; ++trial) {
       std::vector<std::uint32_t> all(12);
@@ -210,7 +204,7 @@ TEST_CASE("optimal equals brute force over Steiner vertex sets on a jittered ico
 
 TEST_CASE("baselines on protrusion fixtures: trees spanning the terminals, within the 2-approximation") {
   for (const auto& p : {fx::spiky_sphere(6), fx::star_blob(5), fx::hand(3)}) {
-    const HalfedgeMesh mesh = build(p.soup);
+    const HalfedgeMesh mesh = fx::build_fixture(p.soup);
     const EdgeGraph graph = build_edge_graph(mesh);
     std::vector<VertexId> terminals;
     for (auto t : p.tips) terminals.push_back(VertexId(t));
@@ -263,7 +257,7 @@ TEST_CASE("baselines on protrusion fixtures: trees spanning the terminals, withi
 
 TEST_CASE("optimal refuses too many terminals, validates input and honours cancellation") {
   const auto p = fx::spiky_sphere(8);
-  const HalfedgeMesh mesh = build(p.soup);
+  const HalfedgeMesh mesh = fx::build_fixture(p.soup);
   const EdgeGraph graph = build_edge_graph(mesh);
   std::vector<VertexId> terminals;
   for (auto t : p.tips) terminals.push_back(VertexId(t));
@@ -285,7 +279,7 @@ TEST_CASE("optimal refuses too many terminals, validates input and honours cance
 
 TEST_CASE("optimal with ten terminals on a spiky sphere: a full component, no longer than the others' leafy trees") {
   const auto p = fx::spiky_sphere(10, 3);
-  const HalfedgeMesh mesh = build(p.soup);
+  const HalfedgeMesh mesh = fx::build_fixture(p.soup);
   const EdgeGraph graph = build_edge_graph(mesh);
   std::vector<VertexId> terminals;
   for (auto t : p.tips) terminals.push_back(VertexId(t));

@@ -14,12 +14,6 @@ namespace fx = seam::fixtures;
 
 namespace {
 
-HalfedgeMesh build(const fx::Soup& s) {
-  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
-  REQUIRE(mesh.ok());
-  return std::move(mesh).value();
-}
-
 double length_of(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges) {
   double total = 0;
   for (EdgeId e : edges) total += mesh.edge_length(e);
@@ -58,7 +52,7 @@ void check_cut_graph(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges)
 
 TEST_CASE("discs and spheres need no cut graph") {
   for (const auto& soup : {fx::icosphere(2), fx::disc(), fx::tetrahedron()}) {
-    const HalfedgeMesh mesh = build(soup);
+    const HalfedgeMesh mesh = fx::build_fixture(soup);
     auto cg = compute_cut_graph(mesh);
     REQUIRE(cg.ok());
     CHECK(cg->empty());
@@ -79,7 +73,7 @@ TEST_CASE("cut graphs open tori, multi-holed slabs, cylinders and mixed componen
                                   fx::translated(fx::icosphere(1), Vec3(-10, 0, 0)))}};
   for (const auto& c : cases) {
     CAPTURE(std::string(c.name));
-    const HalfedgeMesh mesh = build(c.soup);
+    const HalfedgeMesh mesh = fx::build_fixture(c.soup);
     auto cg = compute_cut_graph(mesh);
     REQUIRE(cg.ok());
     CHECK(!cg->empty());
@@ -91,7 +85,7 @@ TEST_CASE("torus cut graph is short: the two loops, not a tree sweep") {
   // R = 2, r = 0.6, 24 x 12: the shortest meridian is a 12-gon of radius 0.6 and the shortest
   // longitude the inner 24-gon of radius 1.4. A shortest system of two loops through one
   // point is at most about their sum (plus a short connector on the tube).
-  const HalfedgeMesh mesh = build(fx::torus(24, 12, 2.0, 0.6));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::torus(24, 12, 2.0, 0.6));
   auto cg = compute_cut_graph(mesh);
   REQUIRE(cg.ok());
   const double meridian = 12 * 2 * 0.6 * std::sin(std::numbers::pi / 12);
@@ -102,7 +96,7 @@ TEST_CASE("torus cut graph is short: the two loops, not a tree sweep") {
 }
 
 TEST_CASE("open cylinder: the cut graph is one shortest path between the two rims") {
-  const HalfedgeMesh mesh = build(fx::open_cylinder(16, 6, 2.0));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::open_cylinder(16, 6, 2.0));
   auto cg = compute_cut_graph(mesh);
   REQUIRE(cg.ok());
   check_cut_graph(mesh, *cg);
@@ -124,7 +118,7 @@ TEST_CASE("real meshes: elephant (genus 3 handles in the CGAL data), knot1, mush
 }
 
 TEST_CASE("cut graph honours cancellation") {
-  const HalfedgeMesh mesh = build(fx::holed_slab(2));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::holed_slab(2));
   CancelToken token;
   token.cancel();
   auto cg = compute_cut_graph(mesh, token);

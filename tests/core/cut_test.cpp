@@ -15,12 +15,6 @@ namespace fx = seam::fixtures;
 
 namespace {
 
-HalfedgeMesh build(const fx::Soup& s) {
-  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
-  REQUIRE(mesh.ok());
-  return std::move(mesh).value();
-}
-
 // Faces keep their ids and corner order; every cut vertex sits where its original does.
 void check_correspondence(const HalfedgeMesh& mesh, const CutMesh& cut) {
   REQUIRE(check_invariants(cut.mesh).ok());
@@ -50,7 +44,7 @@ std::vector<EdgeId> path_edges(const HalfedgeMesh& mesh, VertexId a, VertexId b)
 }  // namespace
 
 TEST_CASE("cutting along nothing gives the same mesh") {
-  const HalfedgeMesh mesh = build(fx::icosphere(2));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(2));
   auto cut = cut_along_edges(mesh, {});
   REQUIRE(cut.ok());
   check_correspondence(mesh, *cut);
@@ -61,7 +55,7 @@ TEST_CASE("cutting along nothing gives the same mesh") {
 }
 
 TEST_CASE("cutting a sphere along a path opens it into a disc with one copy per wedge") {
-  const HalfedgeMesh mesh = build(fx::icosphere(2));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(2));
   const auto edges = path_edges(mesh, VertexId(0u), VertexId(3u));  // antipodal-ish icosahedron vertices
   REQUIRE(edges.size() >= 2);
   auto cut = cut_along_edges(mesh, edges);
@@ -77,7 +71,7 @@ TEST_CASE("cutting a sphere along a path opens it into a disc with one copy per 
 }
 
 TEST_CASE("cutting a sphere along a closed loop gives two discs") {
-  const HalfedgeMesh mesh = build(fx::uv_sphere(16, 8, false));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::uv_sphere(16, 8, false));
   // The equator: ring 4 of the uv sphere (vertices 2 + 3*16 ... 2 + 3*16 + 15).
   std::vector<EdgeId> loop;
   for (int i = 0; i < 16; ++i) {
@@ -98,7 +92,7 @@ TEST_CASE("cutting a sphere along a closed loop gives two discs") {
 
 TEST_CASE("a torus needs two loops: one gives an annulus, which is not a disc") {
   const int nu = 24, nv = 12;
-  const HalfedgeMesh mesh = build(fx::torus(nu, nv));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::torus(nu, nv));
   auto id = [&](int i, int j) { return VertexId(static_cast<std::uint32_t>(((i + nu) % nu) * nv + (j + nv) % nv)); };
   std::vector<EdgeId> meridian, longitude;
   for (int j = 0; j < nv; ++j) meridian.push_back(HalfedgeMesh::edge(mesh.find_halfedge(id(0, j), id(0, j + 1))));
@@ -120,7 +114,7 @@ TEST_CASE("a torus needs two loops: one gives an annulus, which is not a disc") 
 }
 
 TEST_CASE("boundary edges are already open; several components are checked one by one") {
-  const HalfedgeMesh mesh = build(fx::join(fx::disc(), fx::translated(fx::disc(), Vec3(3, 0, 0))));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::join(fx::disc(), fx::translated(fx::disc(), Vec3(3, 0, 0))));
   std::vector<EdgeId> boundary;
   for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
     if (mesh.is_boundary(EdgeId(e))) boundary.push_back(EdgeId(e));
@@ -129,14 +123,14 @@ TEST_CASE("boundary edges are already open; several components are checked one b
   REQUIRE(cut.ok());
   CHECK(cut->mesh.num_vertices() == mesh.num_vertices());
   CHECK(check_is_disc(cut->mesh).ok());
-  const HalfedgeMesh mixed = build(fx::join(fx::disc(), fx::translated(fx::icosphere(1), Vec3(3, 0, 0))));
+  const HalfedgeMesh mixed = fx::build_fixture(fx::join(fx::disc(), fx::translated(fx::icosphere(1), Vec3(3, 0, 0))));
   auto status = check_is_disc(mixed);
   REQUIRE(!status.ok());
   CHECK(status.error().message.find("component 1") != std::string::npos);
 }
 
 TEST_CASE("hostile cuts: out-of-range edge ids and an unrepresentable slit are typed errors") {
-  const HalfedgeMesh mesh = build(fx::icosphere(1));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(1));
   const EdgeId bad[] = {EdgeId(static_cast<std::uint32_t>(mesh.num_edges()))};
   auto r = cut_along_edges(mesh, bad);
   REQUIRE(!r.ok());
@@ -167,7 +161,7 @@ TEST_CASE("check_cut_is_disc agrees with cutting and checking, on random edge se
                             fx::join(fx::icosphere(0), fx::translated(fx::disc(2, 6), Vec3(4, 0, 0)))};
   int agreed = 0;
   for (const auto& soup : soups) {
-    const HalfedgeMesh mesh = build(soup);
+    const HalfedgeMesh mesh = fx::build_fixture(soup);
     const EdgeGraph graph = build_edge_graph(mesh);
     for (int trial = 0; trial < 80; ++trial) {
       // Unions of 1-4 shortest paths between random vertices: trees, cycles, slits, forests.
