@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "api/mesh_io.h"
+#include "bench_util.h"
 #include "core/cut.h"
 #include "core/extrema.h"
 #include "core/halfedge_mesh.h"
@@ -50,29 +51,6 @@ bool build(const IndexedMesh& soup, HalfedgeMesh& out) {
   }
   out = std::move(mesh).value();
   return true;
-}
-
-/// 1:4 midpoint subdivision (no smoothing): same surface, four times the faces.
-IndexedMesh subdivide(const IndexedMesh& in) {
-  IndexedMesh out;
-  out.positions = in.positions;
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
-  auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-    const auto key = std::minmax(a, b);
-    auto [it, inserted] = mid.try_emplace(key, static_cast<std::uint32_t>(out.positions.size()));
-    if (inserted) out.positions.push_back(0.5 * (in.positions[a] + in.positions[b]));
-    return it->second;
-  };
-  for (const auto& t : in.triangles) {
-    const auto a = midpoint(t[0], t[1]);
-    const auto b = midpoint(t[1], t[2]);
-    const auto c = midpoint(t[2], t[0]);
-    out.triangles.push_back({t[0], a, c});
-    out.triangles.push_back({t[1], b, a});
-    out.triangles.push_back({t[2], c, b});
-    out.triangles.push_back({a, b, c});
-  }
-  return out;
 }
 
 /// A wavy height field over [0,1]^2 with 2 n^2 faces: a curved (non-developable) disc.
@@ -216,7 +194,7 @@ int main(int argc, char** argv) {
         if (build(soup, mesh)) {
           for (UvMethod m : kMethods) row("lion-head/sub" + std::to_string(level), mesh, m);
         }
-        if (level < 3) soup = subdivide(soup);
+        if (level < 3) soup = seam::bench::subdivide(soup);
       }
     }
     for (int n : {71, 224, 707}) {
