@@ -416,7 +416,11 @@ struct Server::Impl {
       res.body.clear();
       send_error(req, res, make_api_error(ApiErrorCode::kInternal, "internal error: " + what));
     });
-    http.set_logger([this](const httplib::Request& req, const httplib::Response& res) { log_request(req, res); });
+    // Metrics and the access log are written by the post-routing handler, which cpp-httplib runs
+    // after the handler (and the error handler) and before the response goes on the wire. Its
+    // logger hook runs only after the write, so a client could read /metrics before its own
+    // previous request was counted.
+    http.set_post_routing_handler([this](const httplib::Request& req, httplib::Response& res) { log_request(req, res); });
 
     http.Post("/seam", [this](const httplib::Request& req, httplib::Response& res) { handle_seam(req, res); });
     method_not_allowed("/seam", "POST");

@@ -120,6 +120,17 @@ TEST_CASE("operations endpoints answer JSON and Prometheus text") {
   // The /seam request carried 4 body bytes; earlier GETs none.
   CHECK(m.find("seamd_request_bytes_total 4") != std::string::npos);
   CHECK(m.find("seamd_response_bytes_total 0") == std::string::npos);
+
+  // A response is counted before it reaches the client: a /metrics read that follows a request
+  // on the same connection always sees it (it once raced the write and failed under load).
+  for (int n = 2; n <= 30; ++n) {
+    auto again = cli->Post("/seam", "ok:x", "model/gltf-binary");
+    REQUIRE(again);
+    auto after = cli->Get("/metrics");
+    REQUIRE(after);
+    const auto want = "seamd_requests_total{route=\"/seam\",status=\"200\"} " + std::to_string(n) + "\n";
+    CHECK_MESSAGE(after->body.find(want) != std::string::npos, "request ", n);
+  }
 }
 
 TEST_CASE("every response carries X-Request-Id, echoed or generated") {
