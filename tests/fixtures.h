@@ -8,8 +8,6 @@
 #include <tuple>
 #include <vector>
 
-#include <doctest/doctest.h>
-
 #include "core/halfedge_mesh.h"
 #include "core/types.h"
 
@@ -244,13 +242,6 @@ inline Soup uv_sphere(int around = 16, int rows = 8, bool split = true) {
     }
   }
   return s;
-}
-
-/// Builds the half-edge mesh of a fixture, failing the test if the builder refuses it.
-inline core::HalfedgeMesh build_fixture(const Soup& s) {
-  auto mesh = core::build_halfedge_mesh(s.positions, s.triangles);
-  REQUIRE_MESSAGE(mesh.ok(), (mesh.ok() ? "" : mesh.error().message));
-  return std::move(mesh).value();
 }
 
 }  // namespace seam::fixtures

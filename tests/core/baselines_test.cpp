@@ -7,7 +7,7 @@
 
 #include "core/baselines.h"
 #include "core/skeleton.h"
-#include "fixtures.h"
+#include "fixture_mesh.h"
 #include "seam_fixtures.h"
 
 using namespace seam::core;

@@ -6,7 +6,7 @@
 #include "core/cut.h"
 #include "core/cut_graph.h"
 #include "core/topology.h"
-#include "fixtures.h"
+#include "fixture_mesh.h"
 #include "test_data.h"
 
 using namespace seam::core;

@@ -7,7 +7,7 @@
 #include "core/cut_check.h"
 #include "core/geodesic.h"
 #include "core/topology.h"
-#include "fixtures.h"
+#include "fixture_mesh.h"
 #include "test_data.h"
 
 using namespace seam::core;
