@@ -7,6 +7,7 @@ RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
       g++ cmake ninja-build pkg-config \
       libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev libspdlog-dev libeigen3-dev \
+      libsuitesparse-dev \
  && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY CMakeLists.txt ./
@@ -20,11 +21,12 @@ RUN cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WERROR=ON \
  && ./build/server/seamd --help > /dev/null
 
 FROM debian:bookworm-slim AS runtime
-# Runtime libraries only (httplib and spdlog are shared libraries in Debian; Draco is linked
-# statically); curl for the HEALTHCHECK.
+# Runtime libraries only (httplib, spdlog and CHOLMOD are shared libraries in Debian; Draco is
+# linked statically); OpenBLAS as the BLAS behind CHOLMOD (seamd runs it single-threaded);
+# curl for the HEALTHCHECK.
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      libcpp-httplib0.11 libspdlog1.10 curl ca-certificates \
+      libcpp-httplib0.11 libspdlog1.10 libcholmod3 libopenblas0-pthread curl ca-certificates \
  && rm -rf /var/lib/apt/lists/* \
  && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin seamd
 COPY --from=build /src/build/server/seamd /usr/local/bin/seamd

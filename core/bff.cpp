@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include <Eigen/SparseCholesky>
+#include "core/sparse_cholesky.h"
 
 namespace seam::core {
 
@@ -58,7 +58,7 @@ Result<std::vector<Vec2>> extend_positive(const DiscPatch& patch, const std::vec
   Eigen::SparseMatrix<double> system(num_interior, num_interior);
   system.setFromTriplets(entries.begin(), entries.end());
   if (cancel.is_cancelled()) return cancelled_error("BFF extension");
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver(system);
+  SparseCholesky solver(system);
   if (solver.info() != Eigen::Success) {
     return make_error(ErrorCode::kSolverFailed, "BFF: the positive-weight extension failed to factor");
   }
@@ -120,7 +120,7 @@ Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken&
   if (cancel.is_cancelled()) return cancelled_error("BFF assembly");
 
   // A_II is the Dirichlet Laplacian of a connected disc: positive definite, so LL^T applies.
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver;
+  SparseCholesky solver;
   Eigen::VectorXd u_interior;
   if (num_interior > 0) {
     solver.compute(a_ii);

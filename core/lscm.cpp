@@ -1,6 +1,6 @@
 #include "core/lscm.h"
 
-#include <Eigen/SparseCholesky>
+#include "core/sparse_cholesky.h"
 
 namespace seam::core {
 
@@ -91,7 +91,7 @@ Result<std::vector<Vec2>> flatten_lscm(const DiscPatch& patch, const CancelToken
   entries = {};
   if (cancel.is_cancelled()) return cancelled_error("LSCM assembly");
 
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
+  SparseCholesky solver(system);
   if (solver.info() != Eigen::Success) {
     return make_error(ErrorCode::kSolverFailed, "LSCM: the sparse LDL^T factorization failed");
   }

@@ -8,7 +8,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 
 packages=(build-essential cmake ninja-build pkg-config ccache
           libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev draco
-          libspdlog-dev doctest-dev libeigen3-dev curl ca-certificates)
+          libspdlog-dev doctest-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread
+          curl ca-certificates)
 if [[ "${1:-}" == "--test" ]]; then
   packages+=(clang libclang-rt-14-dev)
   # Node.js may come from elsewhere than Debian (Debian's npm then conflicts with it): only
