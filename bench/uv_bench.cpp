@@ -73,25 +73,38 @@ IndexedMesh height_field(int n) {
   return m;
 }
 
-constexpr UvMethod kMethods[] = {UvMethod::kLscm, UvMethod::kBff, UvMethod::kArap};
+// Each method, plus SLIM with the paper's anisotropic proxy ("slim2x2") to show what the
+// default's isotropic proxy trades for its speed.
+struct Variant {
+  const char* label;
+  UvOptions options;
+};
+const Variant kVariants[] = {
+    {"lscm", {.method = UvMethod::kLscm}},
+    {"bff", {.method = UvMethod::kBff}},
+    {"arap", {.method = UvMethod::kArap}},
+    {"slim2x2", {.method = UvMethod::kSlim, .slim_proxy = seam::core::SlimProxy::kAnisotropic}},
+    {"slim", {.method = UvMethod::kSlim}},
+};
 
 void header() {
-  std::printf("%-26s %9s %-5s %9s %9s %8s %8s %8s %10s %7s %9s\n", "mesh", "faces", "uv", "ms", "area", "area_geo",
+  std::printf("%-26s %9s %-7s %9s %9s %8s %8s %8s %10s %7s %9s\n", "mesh", "faces", "uv", "ms", "area", "area_geo",
               "angle", "L2", "Linf", "flips", "f32fixed");
 }
 
-void row(const std::string& name, const HalfedgeMesh& mesh, UvMethod method) {
+void row(const std::string& name, const HalfedgeMesh& mesh, const Variant& variant) {
+  const UvMethod method = variant.options.method;
   const auto t0 = std::chrono::steady_clock::now();
-  auto r = parameterize(mesh, {.method = method});
+  auto r = parameterize(mesh, variant.options);
   const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!r.ok()) {
-    std::printf("%-26s %9zu %-5s  error: %s\n", name.c_str(), mesh.num_faces(), uv_method_name(method),
+    std::printf("%-26s %9zu %-7s  error: %s\n", name.c_str(), mesh.num_faces(), variant.label,
                 r.error().message.c_str());
     return;
   }
   const Distortion& d = r->distortion;
-  std::printf("%-26s %9zu %-5s %9.1f %9.3f %8.3f %8.3f %8.3f %10.3f %7zu %5zu/%-3zu%s\n", name.c_str(),
-              mesh.num_faces(), uv_method_name(r->method_used), total_ms, d.area, d.area_geometric, d.angle,
+  std::printf("%-26s %9zu %-7s %9.1f %9.3f %8.3f %8.3f %8.3f %10.3f %7zu %5zu/%-3zu%s\n", name.c_str(),
+              mesh.num_faces(), variant.label, total_ms, d.area, d.area_geometric, d.angle,
               d.stretch_l2, d.stretch_linf, d.flipped, r->float32_degenerate - r->float32_unrepaired,
               r->float32_degenerate, r->method_used != method ? " (arap fell back)" : "");
   std::fflush(stdout);
@@ -116,7 +129,7 @@ const char* seam_method_name(SeamMethod m) {
 // Closed protrusion meshes: automatic extrema, each seam method, cut, then flatten.
 void seam_section(bool quick) {
   std::printf("\n== closed meshes cut by each seam (automatic extrema), then flattened\n");
-  std::printf("%-12s %6s %-9s %4s %-5s %8s %9s %8s %8s %8s %7s %9s\n", "mesh", "faces", "seam", "ext", "uv", "ms",
+  std::printf("%-12s %6s %-9s %4s %-7s %8s %9s %8s %8s %8s %7s %9s\n", "mesh", "faces", "seam", "ext", "uv", "ms",
               "area", "area_geo", "angle", "L2", "flips", "f32fixed");
   const char* names_full[] = {"hand", "camel", "dino", "armadillo", "elephant", "homer", "bear", "cow", "man"};
   const char* names_quick[] = {"hand", "camel", "elephant"};
@@ -145,18 +158,18 @@ void seam_section(bool quick) {
         std::printf("%-12s cut error: %s\n", name, cut.error().message.c_str());
         continue;
       }
-      for (UvMethod um : kMethods) {
+      for (const Variant& variant : kVariants) {
         const auto t0 = std::chrono::steady_clock::now();
-        auto r = parameterize(cut->mesh, {.method = um});
+        auto r = parameterize(cut->mesh, variant.options);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (!r.ok()) {
-          std::printf("%-12s %6zu %-9s %4zu %-5s  error: %s\n", name, mesh.num_faces(), seam_method_name(sm),
-                      extrema->size(), uv_method_name(um), r.error().message.c_str());
+          std::printf("%-12s %6zu %-9s %4zu %-7s  error: %s\n", name, mesh.num_faces(), seam_method_name(sm),
+                      extrema->size(), variant.label, r.error().message.c_str());
           continue;
         }
         const Distortion& d = r->distortion;
-        std::printf("%-12s %6zu %-9s %4zu %-5s %8.1f %9.3f %8.3f %8.3f %8.3f %7zu %5zu/%-3zu\n", name,
-                    mesh.num_faces(), seam_method_name(sm), extrema->size(), uv_method_name(r->method_used), ms,
+        std::printf("%-12s %6zu %-9s %4zu %-7s %8.1f %9.3f %8.3f %8.3f %8.3f %7zu %5zu/%-3zu\n", name,
+                    mesh.num_faces(), seam_method_name(sm), extrema->size(), variant.label, ms,
                     d.area, d.area_geometric, d.angle, d.stretch_l2, d.flipped,
                     r->float32_degenerate - r->float32_unrepaired, r->float32_degenerate);
         std::fflush(stdout);
@@ -180,7 +193,7 @@ int main(int argc, char** argv) {
     IndexedMesh soup;
     HalfedgeMesh mesh;
     if (!load(name, soup) || !build(soup, mesh)) continue;
-    for (UvMethod m : kMethods) row(name, mesh, m);
+    for (const Variant& m : kVariants) row(name, mesh, m);
   }
 
   }
@@ -192,7 +205,7 @@ int main(int argc, char** argv) {
       for (int level = 0; level <= (quick ? 2 : 3); ++level) {
         HalfedgeMesh mesh;
         if (build(soup, mesh)) {
-          for (UvMethod m : kMethods) row("lion-head/sub" + std::to_string(level), mesh, m);
+          for (const Variant& m : kVariants) row("lion-head/sub" + std::to_string(level), mesh, m);
         }
         if (level < 3) soup = seam::bench::subdivide(soup);
       }
@@ -201,7 +214,7 @@ int main(int argc, char** argv) {
       if (quick && n > 300) continue;
       HalfedgeMesh mesh;
       if (!build(height_field(n), mesh)) continue;
-      for (UvMethod m : kMethods) row("heightfield/" + std::to_string(n), mesh, m);
+      for (const Variant& m : kVariants) row("heightfield/" + std::to_string(n), mesh, m);
     }
   }
   if (!scale_only) seam_section(quick);

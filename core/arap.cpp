@@ -4,48 +4,9 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/SparseCholesky>
+#include "core/sparse_cholesky.h"
 
 namespace seam::core {
-
-namespace {
-
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-// The largest t such that no triangle with positive signed area at t = 0 reaches zero area on
-// [0, t) when every vertex moves by t * direction (infinity if none ever does).
-double max_injective_step(const DiscPatch& patch, const std::vector<Vec2>& uv, const std::vector<Vec2>& direction) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const Triangle& t : patch.triangles) {
-    const Vec2 a = uv[t[1]] - uv[t[0]];
-    const Vec2 c = uv[t[2]] - uv[t[0]];
-    const double a0 = cross2(a, c);
-    if (!(a0 > 0)) continue;  // already folded: it may unfold, it cannot fold further
-    const Vec2 b = direction[t[1]] - direction[t[0]];
-    const Vec2 e = direction[t[2]] - direction[t[0]];
-    const double b1 = cross2(a, e) + cross2(b, c);
-    const double c2 = cross2(b, e);
-    // Smallest positive root of c2 t^2 + b1 t + a0.
-    double root = std::numeric_limits<double>::infinity();
-    if (std::abs(c2) < 1e-300) {
-      if (b1 < 0) root = -a0 / b1;
-    } else {
-      const double disc = b1 * b1 - 4 * c2 * a0;
-      if (disc >= 0) {
-        const double sq = std::sqrt(disc);
-        // Numerically stable pair of roots.
-        const double q = -0.5 * (b1 + std::copysign(sq, b1));
-        for (double r : {q / c2, q != 0 ? a0 / q : std::numeric_limits<double>::infinity()}) {
-          if (r > 0) root = std::min(root, r);
-        }
-      }
-    }
-    best = std::min(best, root);
-  }
-  return best;
-}
-
-}  // namespace
 
 Result<std::vector<Vec2>> flatten_arap(const DiscPatch& patch, std::vector<Vec2> initial, int iterations,
                                        const CancelToken& cancel) {
@@ -86,7 +47,7 @@ Result<std::vector<Vec2>> flatten_arap(const DiscPatch& patch, std::vector<Vec2>
   Eigen::SparseMatrix<double> system(nfree, nfree);
   system.setFromTriplets(entries.begin(), entries.end());
   entries = {};
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver(system);
+  SparseCholesky solver(system);
   if (solver.info() != Eigen::Success) {
     return make_error(ErrorCode::kSolverFailed, "ARAP: the Cholesky factorization of the cotan Laplacian failed");
   }

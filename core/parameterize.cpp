@@ -8,6 +8,7 @@
 
 #include "core/arap.h"
 #include "core/bff.h"
+#include "core/slim.h"
 #include "core/distortion.h"
 #include "core/lscm.h"
 #include "core/topology.h"
@@ -23,6 +24,8 @@ const char* uv_method_name(UvMethod method) {
       return "bff";
     case UvMethod::kArap:
       return "arap";
+    case UvMethod::kSlim:
+      return "slim";
   }
   return "unknown";
 }
@@ -107,6 +110,10 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
     return make_error(ErrorCode::kInvalidArgument,
                       "arap_iterations must be in 0..1000, got " + std::to_string(options.arap_iterations));
   }
+  if (options.slim_iterations < 0 || options.slim_iterations > 1000) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "slim_iterations must be in 0..1000, got " + std::to_string(options.slim_iterations));
+  }
   if (!(options.chart_gap >= 0 && options.chart_gap <= 1)) {
     return make_error(ErrorCode::kInvalidArgument, "chart_gap must be in 0..1");
   }
@@ -144,6 +151,13 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
           uv = std::move(start_uv);
           result.method_used = UvMethod::kBff;
         }
+        break;
+      }
+      case UvMethod::kSlim: {
+        SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel));
+        repair_flips(patch, start_uv);
+        SEAM_TRY(SlimResult slim, flatten_slim(patch, std::move(start_uv), {.iterations = options.slim_iterations, .proxy = options.slim_proxy}, cancel));
+        uv = std::move(slim.uv);
         break;
       }
     }

@@ -13,16 +13,31 @@ enum class UvMethod {
   kLscm,  ///< least-squares conformal maps, free boundary (Lévy et al. 2002)
   kBff,   ///< Boundary First Flattening, free boundary with u = 0 (Sawhney & Crane 2017)
   kArap,  ///< as-rigid-as-possible local/global iterations started from BFF (Liu et al. 2008)
+  kSlim,  ///< symmetric Dirichlet by SLIM started from BFF (Rabinovich et al. 2017)
 };
 
-/// "lscm", "bff" or "arap".
+/// SLIM's proxy for the symmetric Dirichlet energy (see slim.h). Declared here, not in slim.h,
+/// so that this header stays free of Eigen's sparse module (httplib's <resolv.h> defines a
+/// `_res` macro that breaks it in the server's translation units).
+enum class SlimProxy {
+  kIsotropic,    ///< per-triangle weight (w1^2 + w2^2)/2: one n x n system for u and v
+  kAnisotropic,  ///< the paper's 2x2 weight matrix: one 2n x 2n system, fewer iterations
+};
+
+/// "lscm", "bff", "arap" or "slim".
 const char* uv_method_name(UvMethod method);
 
 struct UvOptions {
-  /// ARAP from BFF: the lowest area distortion measured (bench/uv_bench.cpp, seam table).
-  UvMethod method = UvMethod::kArap;
+  /// SLIM from BFF: the lowest area and angle distortion measured, no flips, and no ARAP
+  /// "locking" (bench/uv_bench.cpp seam table, docs/uv.md).
+  UvMethod method = UvMethod::kSlim;
   /// ARAP only: local/global iterations, 0..1000 (0 returns the BFF start).
   int arap_iterations = 10;
+  /// SLIM only: upper bound on its reweighted global steps, 0..1000 (0 returns the BFF start);
+  /// it stops earlier once a step lowers the energy by less than 0.1%.
+  int slim_iterations = 12;
+  /// SLIM only: its proxy (see slim.h); the isotropic one is several times faster per step.
+  SlimProxy slim_proxy = SlimProxy::kIsotropic;
   /// Gap between packed charts, as a fraction of the square root of the total chart area.
   /// 0..1. Unused with a single chart.
   double chart_gap = 0.02;
@@ -65,9 +80,11 @@ struct UvResult {
 /// rounds to float32, and measures the distortion of what is stored.
 /// kArap starts from BFF; for a chart where ARAP ends with more flipped triangles than its
 /// BFF start, that chart keeps the BFF map (method_used reports kBff if any chart did).
+/// kSlim starts from BFF (or from Tutte's embedding where BFF folds) and never adds a fold.
 /// Errors: kInvalidArgument (options out of range), kEmptyMesh (no faces),
 /// kTopologyViolation (a component is not a disc), kSolverFailed, kCancelled.
-/// Complexity: one or two sparse Cholesky factorizations per chart (see lscm.h, bff.h, arap.h).
+/// Complexity: one or two sparse Cholesky factorizations per chart (see lscm.h, bff.h, arap.h),
+/// plus one per SLIM step (slim.h).
 Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& options = {},
                               const CancelToken& cancel = CancelToken::none());
 

@@ -51,6 +51,11 @@ std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t);
 
 namespace seam::core {
 
+/// The largest t such that no triangle with positive signed area at t = 0 reaches zero area on
+/// [0, t) when every vertex moves by t * direction[v] (infinity if none ever does; triangles
+/// already folded are ignored). Smith & Schaefer 2015's injective step bound. O(F).
+double max_injective_step(const DiscPatch& patch, const std::vector<Vec2>& uv, const std::vector<Vec2>& direction);
+
 /// Triangles of `patch` whose signed UV area is not positive.
 std::size_t count_flipped(const DiscPatch& patch, const std::vector<Vec2>& uv);
 

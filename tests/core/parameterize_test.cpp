@@ -94,7 +94,7 @@ Vec2 extent(const UvResult& r) {
   return hi - lo;
 }
 
-constexpr UvMethod kAllMethods[] = {UvMethod::kLscm, UvMethod::kBff, UvMethod::kArap};
+constexpr UvMethod kAllMethods[] = {UvMethod::kLscm, UvMethod::kBff, UvMethod::kArap, UvMethod::kSlim};
 
 }  // namespace
 
@@ -149,7 +149,7 @@ TEST_CASE("an open cylinder cut along a meridian unrolls into its 2 pi r x h rec
 TEST_CASE("a hemisphere flattens as the theory predicts") {
   const HalfedgeMesh mesh = build(hemisphere(4));
   REQUIRE(compute_topology(mesh).boundary_loops.size() == 1);
-  UvResult by_method[3];
+  UvResult by_method[4];
   for (UvMethod m : kAllMethods) {
     CAPTURE(std::string(uv_method_name(m)));
     auto res = parameterize(mesh, {.method = m});
@@ -164,12 +164,18 @@ TEST_CASE("a hemisphere flattens as the theory predicts") {
   const auto& lscm = by_method[0].distortion;
   const auto& bff = by_method[1].distortion;
   const auto& arap = by_method[2].distortion;
+  const auto& slim = by_method[3].distortion;
   // Conformal maps: angles nearly preserved.
   CHECK(lscm.angle < 1.03);
   CHECK(bff.angle < 1.03);
   // ARAP trades angle for area: it must beat the conformal maps on area distortion.
   CHECK(arap.area_geometric < bff.area_geometric);
   CHECK(arap.angle > bff.angle);
+  // Symmetric Dirichlet balances both: far less area distortion than the conformal maps at a
+  // moderate angle cost.
+  CHECK(slim.area_geometric < bff.area_geometric);
+  CHECK(slim.angle > bff.angle);
+  CHECK(slim.angle < 1.5);
   // The minimal-area-distortion conformal map is no worse on area than LSCM's two-pin map.
   CHECK(bff.area_geometric <= lscm.area_geometric * 1.02);
 }
@@ -325,7 +331,7 @@ TEST_CASE("real CGAL discs flatten without flips") {
     const Topology topo = compute_topology(mesh);
     REQUIRE(topo.components.size() == 1);
     REQUIRE(topo.boundary_loops.size() == 1);
-    double area_geometric[3] = {};
+    double area_geometric[4] = {};
     for (UvMethod m : kAllMethods) {
       CAPTURE(std::string(uv_method_name(m)));
       auto r = parameterize(mesh, {.method = m});
@@ -341,11 +347,15 @@ TEST_CASE("real CGAL discs flatten without flips") {
   }
 }
 
-TEST_CASE("the camel cut by the skeleton seam: the default map meets the issue's bar") {
-  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("camel");
+TEST_CASE("protrusion meshes cut by the skeleton seam: the default map meets the issue's bar") {
+  // Issue 6's bar: 0 flips and geometric area distortion <= 1.7 with the default method. The
+  // hand is a fist (2 protrusions), so its chart is nearly a slit sphere, the hardest case.
+  for (const std::string name : {"camel", "hand", "dino", "elephant"}) {
+  CAPTURE(name);
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
   auto extrema = find_extrema(mesh);
   REQUIRE(extrema.ok());
-  REQUIRE(extrema->size() >= 4);  // legs, head, tail
+  REQUIRE(extrema->size() >= 2);
   auto seam = compute_seam(mesh, *extrema, {.method = SeamMethod::kSkeleton});
   REQUIRE(seam.ok());
   std::vector<EdgeId> edges = seam->seam_edges;
@@ -363,7 +373,11 @@ TEST_CASE("the camel cut by the skeleton seam: the default map meets the issue's
   CHECK(best->distortion.area_geometric <= 1.7);
   // Far lower area distortion than LSCM on the same cut.
   CHECK(best->distortion.area_geometric < 0.5 * lscm->distortion.area_geometric);
-  CHECK(best->distortion.area < 0.1 * lscm->distortion.area);
+  CHECK(best->distortion.area < 0.5 * lscm->distortion.area);
+  // No "locking": angles stay moderate (ARAP's bounded steps left dino at 6.0).
+  CHECK(best->distortion.angle < 2.0);
+  CHECK(best->distortion.stretch_l2 < 1.5);
+  }
 }
 
 TEST_CASE("tiny charts: a lone triangle (no interior vertex) and an isolated vertex") {
