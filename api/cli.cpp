@@ -18,7 +18,7 @@ namespace {
 constexpr const char* kUsage =
     "usage:\n"
     "  seamd seam --mesh FILE(.off|.obj|.glb|.gltf|.drc) [--extrema i,j,k|auto] [--method skeleton|mst|greedy|optimal]\n"
-    "             [--uv bff|lscm|arap|none] [--weld-epsilon X] [--mesh-index N] [--primitive N]\n"
+    "             [--uv slim|arap|bff|lscm|none] [--weld-epsilon X] [--mesh-index N] [--primitive N]\n"
     "             [--out cut.glb] [--draco]\n"
     "  seamd sample --out sample.glb";
 

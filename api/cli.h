@@ -7,7 +7,7 @@ namespace seam::api {
 
 /// Runs a CLI subcommand. argv[0] is the subcommand name ("seam" or "sample").
 ///   seamd seam --mesh FILE(.off|.obj|.glb|.gltf|.drc) [--extrema i,j,k|auto]
-///              [--method skeleton|mst|greedy|optimal] [--uv bff|lscm|arap|none]
+///              [--method skeleton|mst|greedy|optimal] [--uv slim|arap|bff|lscm|none]
 ///              [--weld-epsilon X] [--out cut.glb] [--draco]
 ///     prints the API's 200 body (without the asset) as JSON on `out`.
 ///   seamd sample --out sample.glb   writes the bundled procedural sample mesh.

@@ -149,8 +149,9 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       if (m == "bff") out.uv = core::UvMethod::kBff;
       else if (m == "lscm") out.uv = core::UvMethod::kLscm;
       else if (m == "arap") out.uv = core::UvMethod::kArap;
+      else if (m == "slim") out.uv = core::UvMethod::kSlim;
       else if (m == "none") out.uv = std::nullopt;
-      else return invalid("uv", "uv must be one of bff, lscm, arap, none");
+      else return invalid("uv", "uv must be one of slim, arap, bff, lscm, none");
     } else if (key == "output") {
       const std::string m = v.is_string() ? v.get<std::string>() : "";
       if (m == "json") out.output = OutputFormat::kJson;

@@ -38,6 +38,7 @@ std::string_view uv_name(core::UvMethod m) {
     case core::UvMethod::kLscm: return "lscm";
     case core::UvMethod::kBff: return "bff";
     case core::UvMethod::kArap: return "arap";
+    case core::UvMethod::kSlim: return "slim";
   }
   return "bff";
 }

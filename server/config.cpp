@@ -160,7 +160,7 @@ std::string help_text() {
      << "usage:\n"
      << "  seamd [serve flags]      serve POST /seam, /healthz, /readyz, /metrics, /version\n"
      << "  seamd seam --mesh FILE [--extrema i,j,k|auto] [--method skeleton|mst|greedy|optimal]\n"
-     << "             [--uv bff|lscm|arap|none] [--weld-epsilon X] [--out cut.glb] [--draco]\n"
+     << "             [--uv slim|arap|bff|lscm|none] [--weld-epsilon X] [--out cut.glb] [--draco]\n"
      << "  seamd sample --out sample.glb\n"
      << "  seamd --help\n\n"
      << "serve flags (--flag VALUE or --flag=VALUE; each also read from its environment variable;\n"
