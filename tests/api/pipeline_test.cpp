@@ -355,6 +355,18 @@ TEST_CASE("parameters from JSON and from the query string agree") {
   CHECK(defaults->method == core::SeamMethod::kSkeleton);
   CHECK(defaults->refine == true);
   CHECK(defaults->uv == core::UvOptions{}.method);
+  CHECK(defaults->uv == core::UvMethod::kSlim);
+  // Every method by name, in both forms.
+  for (const auto& [name, method] : {std::pair{"slim", core::UvMethod::kSlim}, std::pair{"arap", core::UvMethod::kArap},
+                                     std::pair{"bff", core::UvMethod::kBff}, std::pair{"lscm", core::UvMethod::kLscm}}) {
+    CAPTURE(name);
+    auto from_json = params_from_json(json{{"uv", name}});
+    auto from_query = params_from_query({{"uv", name}});
+    REQUIRE(from_json.ok());
+    REQUIRE(from_query.ok());
+    CHECK(from_json->uv == method);
+    CHECK(from_query->uv == method);
+  }
   auto positions = params_from_json(json{{"extrema", {{{"position", {0.1, 0.2, 0.3}}}, 7}}});
   REQUIRE(positions.ok());
   CHECK(positions->extrema.positions.size() == 1);
