@@ -145,8 +145,8 @@ void scale_to_surface_area(const DiscPatch& patch, const std::vector<TriangleOpe
 // SLIM's proxy weights for the symmetric Dirichlet energy (the paper's Table 1, after its
 // Eq. 6): w_i^2 = (s_i - s_i^-3) / (s_i - 1) = (s_i + 1)(s_i^2 + 1) / s_i^3, with the 2x2 SVD
 // J = Rot(phi) diag(s1, s2) Rot(theta) in closed form. Returns M = W^T W = U diag(w^2) U^T
-// and the closest rotation R = U V^T.
-void proxy_weights(const Eigen::Matrix2d& j, Eigen::Matrix2d& m, Eigen::Matrix2d& r) {
+// and the closest rotation R = U V^T. Weights are capped at `cap`.
+void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eigen::Matrix2d& r) {
   const double e = 0.5 * (j(0, 0) + j(1, 1));
   const double f = 0.5 * (j(0, 0) - j(1, 1));
   const double g = 0.5 * (j(1, 0) + j(0, 1));
@@ -158,10 +158,7 @@ void proxy_weights(const Eigen::Matrix2d& j, Eigen::Matrix2d& m, Eigen::Matrix2d
   const double a1 = std::atan2(g, f);
   const double a2 = std::atan2(h, e);
   const double phi = 0.5 * (a2 + a1);
-  // Capped: a triangle squeezed to 1e-4 of its size (Tutte starts of long limbs) would give
-  // weights near 1e12 and a system too ill-conditioned for Cholesky in double precision. The
-  // line search on the true energy keeps the step a descent step either way.
-  auto weight2 = [](double s) { return std::min((s + 1) * (s * s + 1) / (s * s * s), kMaxProxyWeight); };
+  auto weight2 = [cap](double s) { return std::min((s + 1) * (s * s + 1) / (s * s * s), cap); };
   const double w1 = weight2(s1);
   const double w2 = weight2(s2);
   const double c = std::cos(phi);
@@ -264,6 +261,11 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
   std::vector<Vec2> trial(n);
   std::uint32_t poll = 0;
   double energy = result.energy_start;
+  // Uncapped first. Triangles squeezed to 1e-4 of their size (a long limb that no seam
+  // reaches) give weights near 1e12 and a system too ill-conditioned for Cholesky in double
+  // precision; then the weights are capped and the step retried. The line search on the true
+  // energy keeps every step a descent step either way.
+  double weight_cap = kInf;
   for (int iter = 0; iter < options.iterations; ++iter) {
     if (cancel.is_cancelled()) return cancelled_error("SLIM");
     // Proxy: sum_t A_t |W_t (J_t - R_t)|^2. Its normal equations have block (k, l) =
@@ -280,7 +282,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
       const Triangle& tri = patch.triangles[t];
       Eigen::Matrix2d m;
       Eigen::Matrix2d r;
-      proxy_weights(jacobian(op, tri, uv), m, r);
+      proxy_weights(jacobian(op, tri, uv), weight_cap, m, r);
       if (block == 1) m = 0.5 * m.trace() * Eigen::Matrix2d::Identity();
       const Eigen::Matrix2d mr = m * r;
       for (int k = 0; k < 3; ++k) {
@@ -309,6 +311,11 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
     // Every iterate is a valid (fold-free) map, so a numerical failure of the proxy stops the
     // descent where it is instead of failing the request.
     solver.factorize(system);
+    if (solver.info() != Eigen::Success && weight_cap == kInf) {
+      weight_cap = kMaxProxyWeight;
+      --iter;
+      continue;
+    }
     if (solver.info() != Eigen::Success) {
       result.numerical_stop = true;
       break;
