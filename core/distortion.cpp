@@ -5,6 +5,20 @@
 
 namespace seam::core {
 
+Svd2 svd_2x2(const Eigen::Matrix2d& j) {
+  // j = [a b; c d] = Q + R with Q = [e -h; h e] (rotation-scale) and R = [f g; g -f]
+  // (reflection-scale); |Q| and |R| give the singular values, their angles the rotations.
+  const double e = 0.5 * (j(0, 0) + j(1, 1));
+  const double f = 0.5 * (j(0, 0) - j(1, 1));
+  const double g = 0.5 * (j(1, 0) + j(0, 1));
+  const double h = 0.5 * (j(1, 0) - j(0, 1));
+  const double q = std::hypot(e, h);
+  const double r = std::hypot(f, g);
+  const double a1 = std::atan2(g, f);
+  const double a2 = std::atan2(h, e);
+  return {.s1 = q + r, .s2 = q - r, .u_angle = 0.5 * (a2 + a1), .v_angle = 0.5 * (a2 - a1)};
+}
+
 TriangleJacobian triangle_jacobian(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& q0, const Vec2& q1,
                                    const Vec2& q2) {
   const Vec3 e1 = p1 - p0;
@@ -23,15 +37,9 @@ TriangleJacobian triangle_jacobian(const Vec3& p0, const Vec3& p1, const Vec3& p
   target.col(0) = q1 - q0;
   target.col(1) = q2 - q0;
   const Eigen::Matrix2d j = target * source.inverse();
-  // Closed-form 2x2 SVD: j = [a b; c d], s1,2 = |Q +- R|.
-  const double e = 0.5 * (j(0, 0) + j(1, 1));
-  const double f = 0.5 * (j(0, 0) - j(1, 1));
-  const double g = 0.5 * (j(1, 0) + j(0, 1));
-  const double h = 0.5 * (j(1, 0) - j(0, 1));
-  const double q = std::hypot(e, h);
-  const double r = std::hypot(f, g);
-  out.s1 = q + r;
-  out.s2 = std::abs(q - r);
+  const Svd2 svd = svd_2x2(j);
+  out.s1 = svd.s1;
+  out.s2 = std::abs(svd.s2);
   out.sign = j.determinant() > 0 ? 1.0 : -1.0;
   return out;
 }

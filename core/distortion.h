@@ -9,6 +9,17 @@
 
 namespace seam::core {
 
+/// Closed-form SVD of a 2x2 matrix: j = Rot(u_angle) diag(s1, s2) Rot(v_angle) with
+/// s1 = |Q| + |R| >= |s2|, s2 = |Q| - |R| signed (negative iff det j < 0), where Q and R are
+/// j's rotation and reflection parts. The closest rotation to j is Rot(u_angle + v_angle).
+struct Svd2 {
+  double s1 = 0;
+  double s2 = 0;
+  double u_angle = 0;
+  double v_angle = 0;
+};
+Svd2 svd_2x2(const Eigen::Matrix2d& j);
+
 /// Singular values s1 >= s2 >= 0 of the Jacobian of the affine map taking the 3D triangle
 /// (p0, p1, p2) to the UV triangle (q0, q1, q2), and the sign of its determinant (+1, or -1
 /// for a flipped or degenerate UV triangle). A zero-area 3D triangle gives s1 = s2 = 0.

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "core/distortion.h"
 #include "core/sparse_cholesky.h"
 
 namespace seam::core {
@@ -147,24 +148,18 @@ void scale_to_surface_area(const DiscPatch& patch, const std::vector<TriangleOpe
 // J = Rot(phi) diag(s1, s2) Rot(theta) in closed form. Returns M = W^T W = U diag(w^2) U^T
 // and the closest rotation R = U V^T. Weights are capped at `cap`.
 void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eigen::Matrix2d& r) {
-  const double e = 0.5 * (j(0, 0) + j(1, 1));
-  const double f = 0.5 * (j(0, 0) - j(1, 1));
-  const double g = 0.5 * (j(1, 0) + j(0, 1));
-  const double h = 0.5 * (j(1, 0) - j(0, 1));
-  const double q = std::hypot(e, h);
-  const double rr = std::hypot(f, g);
-  const double s1 = q + rr;
-  const double s2 = std::max(q - rr, 1e-12);  // positive: the line search keeps det > 0
-  const double a1 = std::atan2(g, f);
-  const double a2 = std::atan2(h, e);
-  const double phi = 0.5 * (a2 + a1);
+  const Svd2 svd = svd_2x2(j);
+  const double s1 = svd.s1;
+  const double s2 = std::max(svd.s2, 1e-12);  // positive: the line search keeps det > 0
+  const double phi = svd.u_angle;
+  const double rotation = svd.u_angle + svd.v_angle;
   auto weight2 = [cap](double s) { return std::min((s + 1) * (s * s + 1) / (s * s * s), cap); };
   const double w1 = weight2(s1);
   const double w2 = weight2(s2);
   const double c = std::cos(phi);
   const double s = std::sin(phi);
   m << c * c * w1 + s * s * w2, c * s * (w1 - w2), c * s * (w1 - w2), s * s * w1 + c * c * w2;
-  r << std::cos(a2), -std::sin(a2), std::sin(a2), std::cos(a2);
+  r << std::cos(rotation), -std::sin(rotation), std::sin(rotation), std::cos(rotation);
 }
 
 }  // namespace
@@ -205,11 +200,10 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
   const int block = options.proxy == SlimProxy::kAnisotropic ? 2 : 1;
   const auto nfree = static_cast<Eigen::Index>(block * (n - 1));
   auto unknown = [block](std::uint32_t v, int c) { return static_cast<Eigen::Index>(block * (v - 1) + c); };
-  Eigen::SparseMatrix<double> system(nfree, nfree);
-  {
-    std::vector<Eigen::Triplet<double>> pattern;
-    pattern.reserve(nf * (block == 2 ? 21 : 6));
-    for (const Triangle& tri : patch.triangles) {
+  // Calls f(t, slot index, row, col) for every lower-triangle entry triangle t touches.
+  auto for_each_lower_entry = [&](auto&& f) {
+    for (std::size_t t = 0; t < nf; ++t) {
+      const Triangle& tri = patch.triangles[t];
       for (int k = 0; k < 3; ++k) {
         for (int l = 0; l < 3; ++l) {
           if (tri[k] == 0 || tri[l] == 0) continue;
@@ -217,38 +211,33 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
             for (int b = 0; b < block; ++b) {
               const Eigen::Index row = unknown(tri[k], a);
               const Eigen::Index col = unknown(tri[l], b);
-              if (row >= col) pattern.emplace_back(row, col, 0.0);
+              if (row >= col) f(t, static_cast<std::size_t>((3 * k + l) * 4 + 2 * a + b), row, col);
             }
           }
         }
       }
     }
+  };
+  Eigen::SparseMatrix<double> system(nfree, nfree);
+  {
+    std::vector<Eigen::Triplet<double>> pattern;
+    pattern.reserve(nf * (block == 2 ? 21 : 6));
+    for_each_lower_entry([&](std::size_t, std::size_t, Eigen::Index row, Eigen::Index col) {
+      pattern.emplace_back(row, col, 0.0);
+    });
     system.setFromTriplets(pattern.begin(), pattern.end());
     system.makeCompressed();
   }
   // slot[t][(3k + l) * 4 + 2a + b]: index into system's values, or -1 if pinned or upper.
   std::vector<std::array<std::int64_t, 36>> slot(nf);
-  for (std::size_t t = 0; t < nf; ++t) {
-    const Triangle& tri = patch.triangles[t];
-    slot[t].fill(-1);
-    for (int k = 0; k < 3; ++k) {
-      for (int l = 0; l < 3; ++l) {
-        if (tri[k] == 0 || tri[l] == 0) continue;
-        for (int a = 0; a < block; ++a) {
-          for (int b = 0; b < block; ++b) {
-            const Eigen::Index row = unknown(tri[k], a);
-            const Eigen::Index col = unknown(tri[l], b);
-            if (row < col) continue;
-            const auto* begin = system.innerIndexPtr() + system.outerIndexPtr()[col];
-            const auto* end = system.innerIndexPtr() + system.outerIndexPtr()[col + 1];
-            const auto* it = std::lower_bound(begin, end, static_cast<int>(row));
-            SEAM_ASSERT(it != end && *it == row);
-            slot[t][static_cast<std::size_t>((3 * k + l) * 4 + 2 * a + b)] = it - system.innerIndexPtr();
-          }
-        }
-      }
-    }
-  }
+  for (auto& s : slot) s.fill(-1);
+  for_each_lower_entry([&](std::size_t t, std::size_t entry, Eigen::Index row, Eigen::Index col) {
+    const auto* begin = system.innerIndexPtr() + system.outerIndexPtr()[col];
+    const auto* end = system.innerIndexPtr() + system.outerIndexPtr()[col + 1];
+    const auto* it = std::lower_bound(begin, end, static_cast<int>(row));
+    SEAM_ASSERT(it != end && *it == row);
+    slot[t][entry] = it - system.innerIndexPtr();
+  });
   SparseCholesky solver;
   solver.analyzePattern(system);
 
