@@ -13,6 +13,7 @@
 #include "core/cut.h"
 #include "core/halfedge_mesh.h"
 #include "core/topology.h"
+#include "core/split_pinched.h"
 #include "core/weld.h"
 
 namespace seam::api {
@@ -58,6 +59,9 @@ struct Canonical {
   std::vector<std::uint32_t> vertex_to_input;  // canonical vertex -> smallest input index
   std::vector<std::uint32_t> face_to_input;    // canonical face -> input triangle
   std::vector<std::uint32_t> input_to_face;    // input triangle -> canonical face
+  // After split_pinched: vertices beyond the welded ones are copies of pinched vertices.
+  std::vector<std::uint32_t> vertex_to_welded;  // vertex -> the welded vertex it is or copies
+  std::size_t pinched_vertices = 0;
 };
 
 Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Triangle>& input_triangles) {
@@ -105,6 +109,21 @@ Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Tri
     c.triangles[f] = rotated[c.face_to_input[f]];
   }
   return c;
+}
+
+// A welded vertex where several fans of triangles meet only at that vertex (scans, CGAL's cow,
+// and split-vertex assets whose welding closes two sheets at a point) becomes one vertex per
+// fan. The copies map back to the welded vertex and so to the same input vertex; the split is
+// numbered from the canonical mesh, so it is as independent of the input order as the rest.
+void split_pinched(Canonical& c) {
+  core::PinchSplit split = core::split_pinched_vertices(c.positions, c.triangles);
+  c.pinched_vertices = split.pinched_vertices;
+  for (std::size_t v = c.vertex_to_input.size(); v < split.positions.size(); ++v) {
+    c.vertex_to_input.push_back(c.vertex_to_input[split.source[v]]);
+  }
+  c.vertex_to_welded = std::move(split.source);
+  c.positions = std::move(split.positions);
+  c.triangles = std::move(split.triangles);
 }
 
 // Core errors name canonical vertices or faces; the contract speaks in input indices.
@@ -200,7 +219,8 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     t = Clock::now();
     auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
     if (!weld.ok()) return from_core(weld.error());
-    const Canonical canon = canonicalize(*weld, data.mesh.triangles);
+    Canonical canon = canonicalize(*weld, data.mesh.triangles);
+    split_pinched(canon);
     auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
     if (!built.ok()) return map_core_error(built.error(), canon, built.error().code);
     const core::HalfedgeMesh& mesh = *built;
@@ -257,7 +277,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
         const std::uint32_t welded = canon.input_to_vertex[input];
         core::VertexId cv;
         for (auto c : corners) {
-          if (cut->to_original[c].value() == welded) cv = c;
+          if (canon.vertex_to_welded[cut->to_original[c].index()] == welded) cv = c;
         }
         if (!cv.valid()) {
           return make_api_error(ApiErrorCode::kInternal, "cut face " + std::to_string(f) + " does not match its input triangle");
@@ -321,7 +341,8 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     std::size_t boundary_loops = topology.boundary_loops.size();
     json mesh_json = {{"vertices", data.mesh.positions.size()},
                       {"faces", data.mesh.triangles.size()},
-                      {"welded_vertices", mesh.num_vertices()},
+                      {"welded_vertices", weld->positions.size()},
+                      {"pinched_vertices_split", canon.pinched_vertices},
                       {"components", topology.components.size()},
                       {"genus", topology.total_genus()},
                       {"boundary_loops", boundary_loops}};

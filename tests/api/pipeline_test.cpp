@@ -293,6 +293,30 @@ TEST_CASE("the cut asset keeps normals, colors, two texcoord sets, skin, morph t
   }
 }
 
+TEST_CASE("a pinched vertex is split per fan: CGAL's cow gives a valid seam, disc and asset") {
+  const core::IndexedMesh soup = test_data::load_cgal("cow");
+  const auto glb = write_plain_glb(soup);
+  REQUIRE(glb.ok());
+  const PipelineOutput out = run_ok(*glb, SeamParams{});
+  const json& body = out.body;
+  CHECK(body["mesh"]["pinched_vertices_split"] == 1);
+  CHECK(body["mesh"]["components"] == 1);
+  CHECK(body["mesh"]["genus"] == 0);
+  CHECK(body["cut"]["euler_characteristic"] == 1);
+  CHECK(body["cut"]["boundary_loops"] == 1);
+  CHECK(body["uv"]["flipped"] == 0);
+  CHECK(body["seam"]["extrema"].size() >= 4);  // legs, head, tail
+  // Seam ids are input vertex indices.
+  for (const auto& e : body["seam"]["edges"]) CHECK(e[1].get<std::size_t>() < soup.positions.size());
+  // The stored cut primitive is a disc and a valid glTF asset.
+  const PrimitiveData cut = read(out.glb);
+  const core::Topology topo = stored_topology(cut);
+  CHECK(topo.components.size() == 1);
+  CHECK(topo.boundary_loops.size() == 1);
+  std::string report;
+  CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "cow.glb") == 0, report);
+}
+
 TEST_CASE("pipeline errors keep their codes") {
   const auto sphere = fixtures::icosphere(1);
   auto glb = write_plain_glb(core::IndexedMesh{sphere.positions, sphere.triangles});
