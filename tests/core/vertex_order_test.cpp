@@ -1,0 +1,74 @@
+// Spatial (Z-order) vertex numbering: a permutation, independent of the input order, and
+// local: mesh neighbours get close numbers.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <numeric>
+#include <random>
+
+#include "core/vertex_order.h"
+#include "fixtures.h"
+
+using namespace seam::core;
+namespace fx = seam::fixtures;
+
+namespace {
+
+// Mean |new(a) - new(b)| over the edges of the triangles under the numbering `rank`.
+double mean_edge_span(const fx::Soup& s, const std::vector<std::uint32_t>& rank) {
+  double sum = 0;
+  std::size_t count = 0;
+  for (const auto& t : s.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      sum += std::abs(static_cast<double>(rank[t[k]]) - static_cast<double>(rank[t[(k + 1) % 3]]));
+      ++count;
+    }
+  }
+  return sum / static_cast<double>(count);
+}
+
+}  // namespace
+
+TEST_CASE("spatial_order is a permutation that does not depend on the input order") {
+  const fx::Soup sphere = fx::icosphere(4);
+  const std::vector<std::uint32_t> order = spatial_order(sphere.positions);
+  REQUIRE(order.size() == sphere.positions.size());
+  std::vector<std::uint32_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::uint32_t i = 0; i < sorted.size(); ++i) CHECK(sorted[i] == i);
+
+  std::vector<std::uint32_t> shuffle(sphere.positions.size());
+  std::iota(shuffle.begin(), shuffle.end(), 0u);
+  std::mt19937 rng(7);
+  std::shuffle(shuffle.begin(), shuffle.end(), rng);
+  std::vector<Vec3> shuffled;
+  for (std::uint32_t i : shuffle) shuffled.push_back(sphere.positions[i]);
+  const std::vector<std::uint32_t> order2 = spatial_order(shuffled);
+  for (std::size_t k = 0; k < order.size(); ++k) CHECK(shuffled[order2[k]] == sphere.positions[order[k]]);
+}
+
+TEST_CASE("mesh neighbours get close numbers") {
+  const fx::Soup sphere = fx::icosphere(5);  // 10k vertices, numbered by subdivision level
+  const std::size_t n = sphere.positions.size();
+  const std::vector<std::uint32_t> order = spatial_order(sphere.positions);
+  std::vector<std::uint32_t> z_rank(n), random_rank(n), identity(n);
+  for (std::uint32_t k = 0; k < n; ++k) z_rank[order[k]] = k;
+  std::iota(identity.begin(), identity.end(), 0u);
+  random_rank = identity;
+  std::mt19937 rng(11);
+  std::shuffle(random_rank.begin(), random_rank.end(), rng);
+  const double z = mean_edge_span(sphere, z_rank);
+  const double input = mean_edge_span(sphere, identity);
+  const double random = mean_edge_span(sphere, random_rank);
+  MESSAGE("mean edge span: Z-order ", z, ", subdivision order ", input, ", random ", random);
+  CHECK(z < 0.1 * random);
+  CHECK(z < input);
+}
+
+TEST_CASE("degenerate inputs: empty, one point, all points equal") {
+  CHECK(spatial_order(std::vector<Vec3>{}).empty());
+  CHECK(spatial_order(std::vector<Vec3>{Vec3(1, 2, 3)}) == std::vector<std::uint32_t>{0});
+  const std::vector<Vec3> same(5, Vec3(1, 1, 1));
+  CHECK(spatial_order(same) == std::vector<std::uint32_t>{0, 1, 2, 3, 4});
+}
