@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "api/mesh_io.h"
+#include "core/vertex_order.h"
 #include "core/types.h"
 
 namespace seam::bench {
@@ -60,6 +61,23 @@ inline core::IndexedMesh subdivide(const core::IndexedMesh& in) {
     out.triangles.push_back({a, b, c});
   }
   return out;
+}
+
+/// The mesh renumbered along a Z-order curve (core::spatial_order), as the service numbers
+/// every mesh it receives (api/pipeline.cpp). Subdivided meshes otherwise keep each level's
+/// new vertices after the old ones, which costs graph searches ~40% in cache misses.
+inline core::IndexedMesh spatially_ordered(const core::IndexedMesh& m) {
+  const std::vector<std::uint32_t> order = core::spatial_order(m.positions);
+  std::vector<std::uint32_t> rank(order.size());
+  core::IndexedMesh z;
+  z.positions.reserve(order.size());
+  for (std::uint32_t k = 0; k < order.size(); ++k) {
+    rank[order[k]] = k;
+    z.positions.push_back(m.positions[order[k]]);
+  }
+  z.triangles.reserve(m.triangles.size());
+  for (const auto& t : m.triangles) z.triangles.push_back({rank[t[0]], rank[t[1]], rank[t[2]]});
+  return z;
 }
 
 /// Subdivides until the mesh has at least `min_faces` faces.

@@ -7,7 +7,6 @@
 #include "core/geodesic.h"
 #include "core/halfedge_mesh.h"
 #include "core/topology.h"
-#include "core/vertex_order.h"
 #include "core/weld.h"
 
 using namespace seam;
@@ -25,16 +24,7 @@ int main() {
   // are far apart in memory; the same meshes renumbered along a Z-order curve, as the service
   // numbers every mesh it receives (api/pipeline.cpp):
   for (std::size_t i : {inputs.size() - 2, inputs.size() - 1}) {
-    const core::IndexedMesh& m = inputs[i].mesh;
-    const std::vector<std::uint32_t> order = core::spatial_order(m.positions);
-    std::vector<std::uint32_t> rank(order.size());
-    core::IndexedMesh z;
-    for (std::uint32_t k = 0; k < order.size(); ++k) {
-      rank[order[k]] = k;
-      z.positions.push_back(m.positions[order[k]]);
-    }
-    for (const auto& t : m.triangles) z.triangles.push_back({rank[t[0]], rank[t[1]], rank[t[2]]});
-    inputs.push_back({inputs[i].name + " Z", std::move(z)});
+    inputs.push_back({inputs[i].name + " Z", bench::spatially_ordered(inputs[i].mesh)});
   }
 
   std::printf("%-14s %9s %8s %8s %8s %13s %12s %8s %8s %11s\n", "mesh", "faces", "weld_ms", "build_ms", "topo_ms",
