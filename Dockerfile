@@ -31,7 +31,9 @@ RUN apt-get update \
  && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin seamd
 COPY --from=build /src/build/server/seamd /usr/local/bin/seamd
 USER 10001:10001
-ENV SEAMD_BIND=0.0.0.0 \
+# OpenBLAS (behind CHOLMOD) starts no thread pool of its own: one request per worker per core.
+ENV OPENBLAS_NUM_THREADS=1 \
+    SEAMD_BIND=0.0.0.0 \
     SEAMD_PORT=8080 \
     SEAMD_LOG_LEVEL=info
 EXPOSE 8080

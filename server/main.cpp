@@ -1,6 +1,8 @@
 // seamd: argument dispatch only. Serving lives in seam_server_lib, batch mode in seam_api.
-#include <pthread.h>
+#include <fcntl.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <iostream>
@@ -12,8 +14,22 @@
 
 namespace {
 
-// SIGTERM/SIGINT are blocked in every thread and taken synchronously by one thread, so the
-// handler can call ordinary code (Server::shutdown) instead of being async-signal-safe.
+// SIGTERM/SIGINT: a handler writes one byte into a pipe and a thread that reads the pipe
+// calls Server::shutdown, so the shutdown path is ordinary code, not async-signal-safe code.
+// (Blocking the signals and taking them with sigwait is not enough: threads that libraries
+// start before main, such as OpenBLAS's pool behind CHOLMOD, do not have them blocked, so the
+// kernel may hand SIGTERM to one of them, where the default action kills the process, or, for
+// PID 1 in a container, drops the signal.) The pipe is the one piece of process-wide state
+// here, as signal handlers are process-wide.
+int stop_pipe[2] = {-1, -1};
+
+extern "C" void on_stop_signal(int) {
+  const int saved = errno;
+  const char byte = 1;
+  [[maybe_unused]] const auto written = write(stop_pipe[1], &byte, 1);
+  errno = saved;
+}
+
 int serve(int argc, char** argv) {
   auto parsed = seam::server::parse_config(argc, argv);
   if (!parsed.ok()) {
@@ -24,12 +40,11 @@ int serve(int argc, char** argv) {
     std::cout << seam::server::help_text();
     return 0;
   }
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGTERM);
-  sigaddset(&signals, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
+  if (pipe2(stop_pipe, O_CLOEXEC) != 0) {
+    std::cerr << "seamd: cannot create the signal pipe: " << std::strerror(errno) << "\n";
+    return 1;
+  }
 
   seam::server::Server server(parsed->config);
   auto port = server.bind();
@@ -37,18 +52,24 @@ int serve(int argc, char** argv) {
     std::cerr << seam::api::error_body(port.error()).dump() << "\n";
     return 1;
   }
-  std::thread signal_thread([&server, signals] {
-    int sig = 0;
-    sigwait(&signals, &sig);
-    server.shutdown();
+  std::thread signal_thread([&server] {
+    char byte = 0;
+    while (read(stop_pipe[0], &byte, 1) < 0 && errno == EINTR) {
+    }
+    if (byte == 1) server.shutdown();  // 0: run() ended on its own
   });
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGTERM, &action, nullptr);
+  sigaction(SIGINT, &action, nullptr);
   server.run();
-  // run() returns only after shutdown(); the signal thread has already finished then,
-  // unless run() failed on its own: wake it so it can be joined.
-  if (signal_thread.joinable()) {
-    pthread_kill(signal_thread.native_handle(), SIGTERM);
-    signal_thread.join();
-  }
+  // run() returns after shutdown() (the signal thread is done or about to be), or on its own:
+  // a zero byte wakes the thread without shutting anything down.
+  const char wake = 0;
+  [[maybe_unused]] const auto written = write(stop_pipe[1], &wake, 1);
+  signal_thread.join();
   return 0;
 }
 
