@@ -347,8 +347,9 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     json uv_json = nullptr;
     if (uv) {
       const auto& d = uv->distortion;
-      uv_json = {{"method", uv_name(*params.uv)},
+      uv_json = {{"method", uv_name(uv->method_used)},
                  {"area_distortion", d.area},
+                 {"area_distortion_geometric", d.area_geometric},
                  {"angle_distortion", d.angle},
                  {"stretch_l2", d.stretch_l2},
                  {"stretch_linf", d.stretch_linf},

@@ -300,6 +300,10 @@ TEST_CASE("a pinched vertex is split per fan: CGAL's cow gives a valid seam, dis
   const PipelineOutput out = run_ok(*glb, SeamParams{});
   const json& body = out.body;
   CHECK(body["mesh"]["pinched_vertices_split"] == 1);
+  CHECK(body["uv"]["method"] == "slim");
+  CHECK(body["uv"]["area_distortion_geometric"].get<double>() >= 1.0);
+  CHECK(body["uv"]["area_distortion_geometric"].get<double>() <= body["uv"]["area_distortion"].get<double>());
+  CHECK(body["uv"]["area_distortion_geometric"].get<double>() <= 1.7);
   CHECK(body["mesh"]["components"] == 1);
   CHECK(body["mesh"]["genus"] == 0);
   CHECK(body["cut"]["euler_characteristic"] == 1);
