@@ -114,9 +114,18 @@ TEST_CASE("operations endpoints answer JSON and Prometheus text") {
   CHECK(m.find("seamd_requests_total{route=\"/seam\",status=\"200\"} 1") != std::string::npos);
   CHECK(m.find("seamd_request_duration_seconds_count{route=\"/seam\"} 1") != std::string::npos);
   CHECK(m.find("seamd_request_duration_seconds_bucket{route=\"/seam\",le=\"+Inf\"} 1") != std::string::npos);
-  CHECK(m.find("seamd_queue_depth 0") != std::string::npos);
-  CHECK(m.find("seamd_busy_workers 0") != std::string::npos);
   CHECK(m.find("seamd_workers 2") != std::string::npos);
+  // The gauges are sampled live: the worker that answered may still be leaving its task for a
+  // moment after the client has the response, so wait for them to settle (they must, quickly).
+  bool idle = false;
+  for (int i = 0; i < 100 && !idle; ++i) {
+    auto again = cli->Get("/metrics");
+    REQUIRE(again);
+    idle = again->body.find("seamd_queue_depth 0\n") != std::string::npos &&
+           again->body.find("seamd_busy_workers 0\n") != std::string::npos;
+    if (!idle) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  CHECK(idle);
   // The /seam request carried 4 body bytes; earlier GETs none.
   CHECK(m.find("seamd_request_bytes_total 4") != std::string::npos);
   CHECK(m.find("seamd_response_bytes_total 0") == std::string::npos);
