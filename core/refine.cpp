@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <utility>
 
+#include "core/indexed_heap.h"
 #include "core/path_search.h"
 #include "core/straighten.h"
 #include "core/tree_util.h"
@@ -29,10 +29,14 @@ class LocalSteiner {
   }
 
   // `region`: global vertices; `obstacle[i]`, `terminal[i]`, `port_mask[i]` per region vertex.
-  // Returns the minimum cost and, through `out`, the tree's edges; kInf if no tree exists.
+  // Returns the minimum cost and, through `out`, the tree's edges; kInf if no tree costs less
+  // than `bound`. Every partial tree of a tree cheaper than `bound` is itself cheaper (edge
+  // weights are positive), so states at or above it are never stored: an exact
+  // branch-and-bound that leaves every state below the bound, and so the answer, unchanged.
   double solve(std::span<const VertexId> region, const std::vector<std::uint8_t>& obstacle,
                const std::vector<std::uint8_t>& terminal, const std::vector<std::uint32_t>& port_mask,
-               std::size_t ports, std::vector<EdgeId>& out, const CancelToken& cancel, bool& cancelled) {
+               std::size_t ports, double bound, std::vector<EdgeId>& out, const CancelToken& cancel,
+               bool& cancelled) {
     const std::size_t n = region.size();
     for (std::size_t i = 0; i < n; ++i) local_of_[region[i].index()] = static_cast<std::int32_t>(i);
     // Local CSR adjacency.
@@ -65,6 +69,8 @@ class LocalSteiner {
       return !terminal[v] && (!obstacle[v] || (port_mask[v] & s) != 0);
     };
     std::uint32_t polls = 0;
+    key_.assign(n, kInf);
+    IndexedHeap heap(key_, n);
     for (std::uint32_t s = 1; s <= full; ++s) {
       const bool singleton = (s & (s - 1)) == 0;
       if (singleton) {
@@ -81,33 +87,34 @@ class LocalSteiner {
             const double c = dp_[at(t, v)] + dp_[at(s ^ t, v)];
             if (c < best) best = c, best_t = t;
           }
-          if (best < kInf) dp_[at(s, v)] = best, kind_[at(s, v)] = kMerge, data_[at(s, v)] = best_t;
+          if (best < bound) dp_[at(s, v)] = best, kind_[at(s, v)] = kMerge, data_[at(s, v)] = best_t;
         }
       }
-      heap_.clear();
+      // Dijkstra for subset s on this subset's row, through the shared indexed 4-ary heap
+      // (each vertex at most once, ties by index: the same settling order as before).
+      std::copy(dp_.begin() + static_cast<std::ptrdiff_t>(at(s, 0)),
+                dp_.begin() + static_cast<std::ptrdiff_t>(at(s, 0) + n), key_.begin());
       for (std::size_t v = 0; v < n; ++v) {
-        if (dp_[at(s, v)] < kInf) heap_.emplace_back(dp_[at(s, v)], static_cast<std::uint32_t>(v));
+        if (key_[v] < kInf) heap.push_or_decrease(static_cast<std::uint32_t>(v));
       }
-      std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
-      while (!heap_.empty()) {
+      while (!heap.empty()) {
         if (cancel.poll(polls)) {
           cancelled = true;
           clear(region);
           return kInf;
         }
-        std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-        const auto [d, v] = heap_.back();
-        heap_.pop_back();
-        if (d > dp_[at(s, v)] || !expandable(v, s)) continue;
+        const std::uint32_t v = heap.pop();
+        if (!expandable(v, s)) continue;
+        const double d = key_[v];
         for (std::uint32_t slot = offsets_[v]; slot < offsets_[v + 1]; ++slot) {
           const std::uint32_t w = heads_[slot];
           const double nd = d + weights_[slot];
-          if (nd < dp_[at(s, w)]) {
+          if (nd < key_[w] && nd < bound) {
+            key_[w] = nd;
             dp_[at(s, w)] = nd;
             kind_[at(s, w)] = kEdge;
             data_[at(s, w)] = halfedges_[slot].value();
-            heap_.emplace_back(nd, w);
-            std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+            heap.push_or_decrease(w);
           }
         }
       }
@@ -165,7 +172,7 @@ class LocalSteiner {
   std::vector<double> dp_;
   std::vector<std::uint8_t> kind_;
   std::vector<std::uint32_t> data_;
-  std::vector<std::pair<double, std::uint32_t>> heap_;
+  std::vector<double> key_;  // the current subset's row of dp_, keyed by the heap
 };
 
 double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights, std::span<const EdgeId> edges) {
@@ -336,7 +343,8 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
       if (work > options.max_work) break;
       std::vector<EdgeId> joining;
       bool cancelled = false;
-      const double cost = solver.solve(region, obstacle, terminal, port_mask, ports.size(), joining, cancel, cancelled);
+      const double cost =
+          solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, joining, cancel, cancelled);
       if (cancelled) return cancelled_error("seam refinement");
       if (!(cost < removed_length - 1e-9 * (1.0 + removed_length))) continue;
       std::vector<EdgeId> candidate = rest;
