@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/cut.h"
+#include "core/parameterize.h"
 #include "core/seam.h"
 #include "core/topology.h"
 #include "fixtures.h"
@@ -318,7 +319,7 @@ TEST_CASE("real CGAL meshes: every method cuts a disc, skeleton and optimal keep
   }
 }
 
-TEST_CASE("property: random extrema sets never crash and always cut a disc") {
+TEST_CASE("property: random extrema sets never crash, always cut a disc, and flatten without flips") {
   struct Mesh {
     const char* name;
     fx::Soup soup;
@@ -345,6 +346,18 @@ TEST_CASE("property: random extrema sets never crash and always cut a disc") {
       auto r = compute_seam(mesh, extrema, {.method = m});
       REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
       check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
+      // Whatever the seam, the default flattening of the cut is flip-free and inside [0,1]^2.
+      std::vector<EdgeId> cut_edges = r->seam_edges;
+      cut_edges.insert(cut_edges.end(), r->cut_graph_edges.begin(), r->cut_graph_edges.end());
+      auto cut = cut_along_edges(mesh, cut_edges);
+      REQUIRE(cut.ok());
+      auto uv = parameterize(cut->mesh);
+      REQUIRE_MESSAGE(uv.ok(), (uv.ok() ? "" : uv.error().message));
+      CHECK(uv->distortion.flipped == 0);
+      for (std::size_t v = 0; v < cut->mesh.num_vertices(); ++v) {
+        const Vec2 p = uv->uv[VertexId(v)];
+        CHECK((p.x() >= 0 && p.x() <= 1 && p.y() >= 0 && p.y() <= 1));
+      }
       ++runs;
     }
   }
