@@ -25,26 +25,6 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-std::string_view method_name(core::SeamMethod m) {
-  switch (m) {
-    case core::SeamMethod::kSkeleton: return "skeleton";
-    case core::SeamMethod::kMst: return "mst";
-    case core::SeamMethod::kGreedy: return "greedy";
-    case core::SeamMethod::kOptimal: return "optimal";
-  }
-  return "skeleton";
-}
-
-std::string_view uv_name(core::UvMethod m) {
-  switch (m) {
-    case core::UvMethod::kLscm: return "lscm";
-    case core::UvMethod::kBff: return "bff";
-    case core::UvMethod::kArap: return "arap";
-    case core::UvMethod::kSlim: return "slim";
-  }
-  return "bff";
-}
-
 ApiError timeout(const char* stage) {
   return make_api_error(ApiErrorCode::kTimeout, std::string("the computation exceeded the time budget during ") + stage);
 }
@@ -322,7 +302,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
       }
       polylines.push_back(std::move(line));
     }
-    json seam_json = {{"method", method_name(params.method)},
+    json seam_json = {{"method", core::seam_method_name(params.method)},
                       {"edges", edge_pairs(cut_edges)},
                       {"length", seam->length},
                       {"extrema", vertex_list(seam->extrema)},
@@ -347,7 +327,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     json uv_json = nullptr;
     if (uv) {
       const auto& d = uv->distortion;
-      uv_json = {{"method", uv_name(uv->method_used)},
+      uv_json = {{"method", core::uv_method_name(uv->method_used)},
                  {"area_distortion", d.area},
                  {"area_distortion_geometric", d.area_geometric},
                  {"angle_distortion", d.angle},
@@ -369,7 +349,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
       };
       while (used(channel)) ++channel;
       out_prim.seam_extras["uv_channel"] = channel;
-      out_prim.seam_extras["uv_method"] = uv_name(*params.uv);
+      out_prim.seam_extras["uv_method"] = core::uv_method_name(uv->method_used);
     }
     WriteOptions write_options;
     write_options.draco = params.draco.value_or(data.draco);

@@ -4,13 +4,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "api/mesh_io.h"
-#include "core/vertex_order.h"
+#include "core/halfedge_mesh.h"
 #include "core/types.h"
+#include "core/vertex_order.h"
+#include "core/weld.h"
 
 namespace seam::bench {
 
@@ -78,6 +81,18 @@ inline core::IndexedMesh spatially_ordered(const core::IndexedMesh& m) {
   z.triangles.reserve(m.triangles.size());
   for (const auto& t : m.triangles) z.triangles.push_back({rank[t[0]], rank[t[1]], rank[t[2]]});
   return z;
+}
+
+/// Welds (exactly) and builds the half-edge mesh; exits with a message if the builder refuses.
+inline core::HalfedgeMesh build_welded(const core::IndexedMesh& soup) {
+  auto weld = core::weld_vertices(soup.positions, {});
+  const auto tris = core::remap_triangles(soup.triangles, weld->input_to_welded);
+  auto mesh = core::build_halfedge_mesh(weld->positions, tris);
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "mesh: %s\n", mesh.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(mesh).value();
 }
 
 /// Subdivides until the mesh has at least `min_faces` faces.

@@ -22,16 +22,6 @@ using core::SeamMethod;
 
 namespace {
 
-const char* method_name(SeamMethod m) {
-  switch (m) {
-    case SeamMethod::kSkeleton: return "skeleton";
-    case SeamMethod::kMst: return "mst";
-    case SeamMethod::kGreedy: return "greedy";
-    case SeamMethod::kOptimal: return "optimal";
-  }
-  return "?";
-}
-
 void run_row(const std::string& mesh_name, const char* label, const core::HalfedgeMesh& mesh,
              std::span<const core::VertexId> extrema, SeamMethod method) {
   core::SeamOptions options;
@@ -85,7 +75,7 @@ int main(int argc, char** argv) {
     std::printf("%-10s (%zu faces, %zu auto extrema)\n", name.c_str(), mesh.num_faces(), extrema.size());
     run_row(name, "cut graph", mesh, {}, SeamMethod::kSkeleton);
     for (SeamMethod m : {SeamMethod::kMst, SeamMethod::kGreedy, SeamMethod::kSkeleton, SeamMethod::kOptimal}) {
-      run_row(name, method_name(m), mesh, extrema, m);
+      run_row(name, core::seam_method_name(m), mesh, extrema, m);
     }
   }
   std::printf("\narea = area-weighted mean of max(s1 s2, 1/(s1 s2)); area_g = its geometric form\n"

@@ -22,16 +22,7 @@ using namespace seam::core;
 
 namespace {
 
-HalfedgeMesh build(const IndexedMesh& soup) {
-  auto weld = weld_vertices(soup.positions, {});
-  const auto tris = remap_triangles(soup.triangles, weld->input_to_welded);
-  auto mesh = build_halfedge_mesh(weld->positions, tris);
-  if (!mesh.ok()) {
-    std::fprintf(stderr, "mesh: %s\n", mesh.error().message.c_str());
-    std::exit(1);
-  }
-  return std::move(mesh).value();
-}
+HalfedgeMesh build(const IndexedMesh& soup) { return bench::build_welded(soup); }
 
 double area_of(const HalfedgeMesh& mesh) {
   double area = 0;

@@ -24,16 +24,7 @@ double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-HalfedgeMesh build(const IndexedMesh& soup) {
-  auto weld = weld_vertices(soup.positions, {});
-  const auto tris = remap_triangles(soup.triangles, weld->input_to_welded);
-  auto mesh = build_halfedge_mesh(weld->positions, tris);
-  if (!mesh.ok()) {
-    std::fprintf(stderr, "mesh: %s\n", mesh.error().message.c_str());
-    std::exit(1);
-  }
-  return std::move(mesh).value();
-}
+HalfedgeMesh build(const IndexedMesh& soup) { return bench::build_welded(soup); }
 
 const char* valid(const HalfedgeMesh& mesh, const SteinerTree& tree, std::span<const VertexId> terminals) {
   return check_full_component_tree(mesh, tree.edges, terminals).ok() ? "yes" : "NO";

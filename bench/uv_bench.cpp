@@ -112,20 +112,6 @@ void row(const std::string& name, const HalfedgeMesh& mesh, const Variant& varia
 
 }  // namespace
 
-const char* seam_method_name(SeamMethod m) {
-  switch (m) {
-    case SeamMethod::kSkeleton:
-      return "skeleton";
-    case SeamMethod::kMst:
-      return "mst";
-    case SeamMethod::kGreedy:
-      return "greedy";
-    case SeamMethod::kOptimal:
-      return "optimal";
-  }
-  return "?";
-}
-
 // Closed protrusion meshes: automatic extrema, each seam method, cut, then flatten.
 void seam_section(bool quick) {
   std::printf("\n== closed meshes cut by each seam (automatic extrema), then flattened\n");

@@ -44,6 +44,20 @@
 
 namespace seam::core {
 
+const char* seam_method_name(SeamMethod method) {
+  switch (method) {
+    case SeamMethod::kSkeleton:
+      return "skeleton";
+    case SeamMethod::kMst:
+      return "mst";
+    case SeamMethod::kGreedy:
+      return "greedy";
+    case SeamMethod::kOptimal:
+      return "optimal";
+  }
+  return "skeleton";
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

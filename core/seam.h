@@ -19,6 +19,9 @@ enum class SeamMethod {
   kOptimal,   ///< exact minimum full-component Steiner tree (Dreyfus–Wagner), small k only
 };
 
+/// "skeleton", "mst", "greedy" or "optimal" (the API's names).
+const char* seam_method_name(SeamMethod method);
+
 struct SeamOptions {
   SeamMethod method = SeamMethod::kSkeleton;
   /// Skeleton only: shorten the straightened skeleton while keeping every extremum a leaf.

@@ -31,16 +31,6 @@ std::vector<VertexId> ids(const std::vector<std::uint32_t>& raw) {
   return out;
 }
 
-const char* name_of(SeamMethod m) {
-  switch (m) {
-    case SeamMethod::kSkeleton: return "skeleton";
-    case SeamMethod::kMst: return "mst";
-    case SeamMethod::kGreedy: return "greedy";
-    case SeamMethod::kOptimal: return "optimal";
-  }
-  return "?";
-}
-
 std::map<std::uint32_t, int> seam_degrees(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges) {
   std::map<std::uint32_t, int> degree;
   for (EdgeId e : edges) {
@@ -148,7 +138,7 @@ TEST_CASE("every method on protrusion fixtures: a tree of mesh edges that cuts a
     std::map<SeamMethod, double> length;
     for (SeamMethod m : kMethods) {
       CAPTURE(std::string(c.name));
-      CAPTURE(std::string(name_of(m)));
+      CAPTURE(std::string(seam_method_name(m)));
       auto r = compute_seam(mesh, extrema, {.method = m});
       REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
       CHECK(r->cut_graph_edges.empty());
@@ -194,7 +184,7 @@ TEST_CASE("surfaces that are not spheres are cut to one disc per component") {
       for (SeamMethod m : kMethods) {
         CAPTURE(std::string(c.name));
         CAPTURE(k);
-        CAPTURE(std::string(name_of(m)));
+        CAPTURE(std::string(seam_method_name(m)));
         auto r = compute_seam(mesh, extrema, {.method = m});
         REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
         check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
@@ -225,7 +215,7 @@ TEST_CASE("two adjacent extrema on a closed surface: the seam stays cuttable and
   const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(0u));
   const VertexId extrema[] = {mesh.tail(h), mesh.head(h)};
   for (SeamMethod m : kMethods) {
-    CAPTURE(std::string(name_of(m)));
+    CAPTURE(std::string(seam_method_name(m)));
     auto r = compute_seam(mesh, extrema, {.method = m});
     REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
     CHECK(r->seam_edges.size() == 2);
@@ -303,7 +293,7 @@ TEST_CASE("real CGAL meshes: every method cuts a disc, skeleton and optimal keep
     std::map<SeamMethod, double> length;
     for (SeamMethod m : kMethods) {
       CAPTURE(std::string(c.name));
-      CAPTURE(std::string(name_of(m)));
+      CAPTURE(std::string(seam_method_name(m)));
       auto r = compute_seam(mesh, extrema, {.method = m});
       REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
       check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
@@ -342,7 +332,7 @@ TEST_CASE("property: random extrema sets never crash, always cut a disc, and fla
       const SeamMethod m = kMethods[trial % 4];
       CAPTURE(std::string(mm.name));
       CAPTURE(trial);
-      CAPTURE(std::string(name_of(m)));
+      CAPTURE(std::string(seam_method_name(m)));
       auto r = compute_seam(mesh, extrema, {.method = m});
       REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
       check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
@@ -384,7 +374,7 @@ TEST_CASE("many small components: each is cut on its own, extrema go to their co
     }
   }
   for (SeamMethod m : kMethods) {
-    CAPTURE(std::string(name_of(m)));
+    CAPTURE(std::string(seam_method_name(m)));
     auto r = compute_seam(mesh, extrema, {.method = m});
     REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
     check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
