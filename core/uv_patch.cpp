@@ -128,6 +128,29 @@ double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x
 
 double signed_area_2x(const Vec2& a, const Vec2& b, const Vec2& c) { return cross2(b - a, c - a); }
 
+// Vertex -> incident triangles, CSR: the triangles of vertex v are
+// triangles[offset[v] .. offset[v + 1]).
+struct VertexStars {
+  std::vector<std::uint32_t> offset;
+  std::vector<std::uint32_t> triangles;
+};
+
+VertexStars vertex_stars(const DiscPatch& patch) {
+  const std::size_t n = patch.num_vertices();
+  VertexStars s;
+  s.offset.assign(n + 1, 0);
+  for (const Triangle& t : patch.triangles) {
+    for (std::uint32_t v : t) ++s.offset[v + 1];
+  }
+  for (std::size_t v = 0; v < n; ++v) s.offset[v + 1] += s.offset[v];
+  s.triangles.resize(s.offset[n]);
+  std::vector<std::uint32_t> fill(s.offset.begin(), s.offset.end() - 1);
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    for (std::uint32_t v : patch.triangles[t]) s.triangles[fill[v]++] = static_cast<std::uint32_t>(t);
+  }
+  return s;
+}
+
 }  // namespace
 
 double max_injective_step(const DiscPatch& patch, const std::vector<Vec2>& uv, const std::vector<Vec2>& direction) {
@@ -173,17 +196,9 @@ std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int roun
   std::size_t flipped = count_flipped(patch, uv);
   if (flipped == 0) return 0;
   const std::size_t n = patch.num_vertices();
-  // Vertex -> incident triangles, CSR.
-  std::vector<std::uint32_t> offset(n + 1, 0);
-  for (const Triangle& t : patch.triangles) {
-    for (std::uint32_t v : t) ++offset[v + 1];
-  }
-  for (std::size_t v = 0; v < n; ++v) offset[v + 1] += offset[v];
-  std::vector<std::uint32_t> star(offset[n]);
-  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
-  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-    for (std::uint32_t v : patch.triangles[t]) star[fill[v]++] = static_cast<std::uint32_t>(t);
-  }
+  const VertexStars stars = vertex_stars(patch);
+  const std::vector<std::uint32_t>& offset = stars.offset;
+  const std::vector<std::uint32_t>& star = stars.triangles;
   auto bad_in_star = [&](std::uint32_t v) {
     std::size_t bad = 0;
     for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
@@ -277,17 +292,9 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
   out.degenerate = bad.size();
   if (bad.empty()) return out;
 
-  const std::size_t n = patch.num_vertices();
-  std::vector<std::uint32_t> offset(n + 1, 0);
-  for (const Triangle& t : patch.triangles) {
-    for (std::uint32_t v : t) ++offset[v + 1];
-  }
-  for (std::size_t v = 0; v < n; ++v) offset[v + 1] += offset[v];
-  std::vector<std::uint32_t> star(offset[n]);
-  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
-  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-    for (std::uint32_t v : patch.triangles[t]) star[fill[v]++] = static_cast<std::uint32_t>(t);
-  }
+  const VertexStars stars = vertex_stars(patch);
+  const std::vector<std::uint32_t>& offset = stars.offset;
+  const std::vector<std::uint32_t>& star = stars.triangles;
   auto star_ok = [&](std::uint32_t v) {
     for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
       const Triangle& t = patch.triangles[star[k]];
