@@ -1,28 +1,19 @@
 #include "core/cut.h"
 
 #include <algorithm>
-#include <numeric>
 #include <string>
 #include <vector>
 
 #include "core/cut_check.h"
 #include "core/topology.h"
+#include "core/tree_util.h"
 
 namespace seam::core {
 
 namespace {
 
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];  // path halving keeps the trees flat without recursion
-    x = parent[x];
-  }
-  return x;
-}
-
-}  // namespace
-
-Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId> edges) {
+// The per-edge cut flags, after checking every id.
+Result<std::vector<std::uint8_t>> cut_flags(const HalfedgeMesh& mesh, std::span<const EdgeId> edges) {
   const std::size_t ne = mesh.num_edges();
   std::vector<std::uint8_t> is_cut(ne, 0);
   for (EdgeId e : edges) {
@@ -34,27 +25,55 @@ Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId
     }
     is_cut[e.index()] = 1;
   }
+  return is_cut;
+}
 
-  // A corner is an interior half-edge standing for its tail in its face. Corners across an
-  // uncut interior edge share their vertex copy; union-find over corners yields the wedges
-  // without walking rotations (which would need care at boundary vertices).
-  const std::size_t nh = mesh.num_halfedges();
-  std::vector<std::uint32_t> parent(nh);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto unite = [&](HalfedgeId a, HalfedgeId b) {
-    const std::uint32_t ra = find_root(parent, a.value());
-    const std::uint32_t rb = find_root(parent, b.value());
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-  };
-  for (std::size_t e = 0; e < ne; ++e) {
+// A corner is an interior half-edge standing for its tail in its face. Corners across an
+// uncut interior edge share their vertex copy; union-find over corners yields the wedges
+// without walking rotations (which would need care at boundary vertices).
+detail::UnionFind corner_wedges(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut) {
+  detail::UnionFind wedges(mesh.num_halfedges());
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
     if (is_cut[e]) continue;
     const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
     const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
     if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
     // tail(a) == head(b) == tail(next(b)), and symmetrically.
-    unite(a, mesh.next(b));
-    unite(b, mesh.next(a));
+    wedges.unite(a.value(), mesh.next(b).value());
+    wedges.unite(b.value(), mesh.next(a).value());
   }
+  return wedges;
+}
+
+// An interior cut edge both of whose ends keep a single wedge (a slit between two vertices
+// touching no other cut) would be glued shut again: a two-edge boundary loop is not a
+// simplicial mesh. Reported instead of silently leaving the edge closed.
+Status check_no_slit(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut, detail::UnionFind& wedges) {
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
+    if (!is_cut[e]) continue;
+    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
+    const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
+    if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
+    if (wedges.find(a.value()) == wedges.find(mesh.next(b).value()) &&
+        wedges.find(b.value()) == wedges.find(mesh.next(a).value())) {
+      const auto u = mesh.tail(a).value();
+      const auto v = mesh.head(a).value();
+      return make_error(ErrorCode::kTopologyViolation,
+                        "cut edge " + std::to_string(e) + " (" + std::to_string(u) + ", " + std::to_string(v) +
+                            ") cannot open: neither end meets another cut edge or the boundary (a slit)",
+                        {static_cast<std::uint32_t>(e)});
+    }
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId> edges) {
+  SEAM_TRY(const std::vector<std::uint8_t> is_cut, cut_flags(mesh, edges));
+  detail::UnionFind wedges = corner_wedges(mesh, is_cut);
+  if (auto slit = check_no_slit(mesh, is_cut, wedges); !slit.ok()) return slit.take_error();
+  const std::size_t nh = mesh.num_halfedges();
 
   // Numbering: the wedge met first around v (counter-clockwise from vertex_halfedge(v))
   // keeps v's id, further wedges are appended in vertex order. So an uncut mesh maps to
@@ -69,7 +88,7 @@ Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId
     bool first = true;
     mesh.for_each_outgoing(VertexId(v), [&](HalfedgeId h) {
       if (mesh.is_boundary(h)) return;
-      const std::uint32_t root = find_root(parent, h.value());
+      const std::uint32_t root = wedges.find(h.value());
       if (wedge_vertex[root] != VertexId::kInvalidValue) return;
       if (first) {
         wedge_vertex[root] = static_cast<std::uint32_t>(v);
@@ -82,30 +101,11 @@ Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId
     });
   }
 
-  // An interior cut edge both of whose ends keep a single wedge (a slit between two vertices
-  // touching no other cut) would be glued shut again: a two-edge boundary loop is not a
-  // simplicial mesh. Report it instead of silently leaving the edge closed.
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (!is_cut[e]) continue;
-    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
-    const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
-    if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
-    if (find_root(parent, a.value()) == find_root(parent, mesh.next(b).value()) &&
-        find_root(parent, b.value()) == find_root(parent, mesh.next(a).value())) {
-      const auto u = mesh.tail(a).value();
-      const auto v = mesh.head(a).value();
-      return make_error(ErrorCode::kTopologyViolation,
-                        "cut edge " + std::to_string(e) + " (" + std::to_string(u) + ", " + std::to_string(v) +
-                            ") cannot open: neither end meets another cut edge or the boundary (a slit)",
-                        {static_cast<std::uint32_t>(e)});
-    }
-  }
-
   std::vector<Triangle> triangles(mesh.num_faces());
   for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
     HalfedgeId h = mesh.face_halfedge(FaceId(f));
     for (unsigned i = 0; i < 3; ++i, h = mesh.next(h)) {
-      triangles[f][i] = wedge_vertex[find_root(parent, h.value())];
+      triangles[f][i] = wedge_vertex[wedges.find(h.value())];
     }
   }
   auto built = build_halfedge_mesh(positions, triangles);
@@ -148,58 +148,34 @@ Status check_cut_is_disc(const HalfedgeMesh& mesh, std::span<const EdgeId> edges
   const std::size_t ne = mesh.num_edges();
   const std::size_t nh = mesh.num_halfedges();
   const std::size_t nf = mesh.num_faces();
-  std::vector<std::uint8_t> is_cut(ne, 0);
-  for (EdgeId e : edges) {
-    if (!e.valid() || e.index() >= ne) {
-      return make_error(ErrorCode::kInvalidArgument, "cut edge " + std::to_string(e.value()) + " is out of range",
-                        {e.value()});
-    }
-    is_cut[e.index()] = 1;
-  }
-  // Wedges (corner union-find, as in cut_along_edges) and face components (face union-find
-  // across uncut interior edges), in one pass over the edges.
-  std::vector<std::uint32_t> corner(nh);
-  std::iota(corner.begin(), corner.end(), 0u);
-  std::vector<std::uint32_t> face(nf);
-  std::iota(face.begin(), face.end(), 0u);
-  auto unite = [](std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  };
+  SEAM_TRY(const std::vector<std::uint8_t> is_cut, cut_flags(mesh, edges));
+  // Wedges as in cut_along_edges, and face components across uncut interior edges.
+  detail::UnionFind wedges = corner_wedges(mesh, is_cut);
+  if (auto slit = check_no_slit(mesh, is_cut, wedges); !slit.ok()) return slit;
+  detail::UnionFind parts(nf);
   for (std::size_t e = 0; e < ne; ++e) {
     const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
     const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
     if (is_cut[e] || mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
-    unite(corner, a.value(), mesh.next(b).value());
-    unite(corner, b.value(), mesh.next(a).value());
-    unite(face, mesh.face(a).value(), mesh.face(b).value());
+    parts.unite(mesh.face(a).value(), mesh.face(b).value());
   }
-  // Euler characteristic per component: wedges - edges (cut interior edges twice) + faces.
+  // Euler characteristic per part: wedges - edges (cut interior edges twice) + faces.
   std::vector<std::int64_t> chi(nf, 0);
-  for (std::size_t f = 0; f < nf; ++f) ++chi[find_root(face, static_cast<std::uint32_t>(f))];
+  for (std::size_t f = 0; f < nf; ++f) ++chi[parts.find(static_cast<std::uint32_t>(f))];
   for (std::size_t e = 0; e < ne; ++e) {
     const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
     const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
     const HalfedgeId inside = mesh.is_boundary(a) ? b : a;
-    const bool interior = !mesh.is_boundary(a) && !mesh.is_boundary(b);
-    chi[find_root(face, mesh.face(inside).value())] -= 1;
+    chi[parts.find(mesh.face(inside).value())] -= 1;
     // A cut edge becomes one edge on each side, and the sides may end up in different parts.
-    if (interior && is_cut[e]) chi[find_root(face, mesh.face(b).value())] -= 1;
-    if (interior && is_cut[e] && find_root(corner, a.value()) == find_root(corner, mesh.next(b).value()) &&
-        find_root(corner, b.value()) == find_root(corner, mesh.next(a).value())) {
-      return make_error(ErrorCode::kTopologyViolation,
-                        "cut edge " + std::to_string(e) + " cannot open: neither end meets another cut edge or "
-                        "the boundary (a slit)",
-                        {static_cast<std::uint32_t>(e)});
-    }
+    if (is_cut[e] && !mesh.is_boundary(a) && !mesh.is_boundary(b)) chi[parts.find(mesh.face(b).value())] -= 1;
   }
   for (std::size_t h = 0; h < nh; ++h) {
-    if (mesh.is_boundary(HalfedgeId(h)) || find_root(corner, static_cast<std::uint32_t>(h)) != h) continue;
-    ++chi[find_root(face, mesh.face(HalfedgeId(h)).value())];  // one vertex per wedge
+    if (mesh.is_boundary(HalfedgeId(h)) || wedges.find(static_cast<std::uint32_t>(h)) != h) continue;
+    ++chi[parts.find(mesh.face(HalfedgeId(h)).value())];  // one vertex per wedge
   }
   for (std::size_t f = 0; f < nf; ++f) {
-    if (find_root(face, static_cast<std::uint32_t>(f)) != f || chi[f] == 1) continue;
+    if (parts.find(static_cast<std::uint32_t>(f)) != f || chi[f] == 1) continue;
     return make_error(ErrorCode::kTopologyViolation,
                       "the part containing face " + std::to_string(f) + " is not a disc after the cut: Euler "
                       "characteristic " + std::to_string(chi[f]) + " (a disc has 1)",
