@@ -68,6 +68,25 @@ void PathSearch::add_source(VertexId v, double offset) {
   }
 }
 
+template <class Key>
+void PathSearch::relax(std::uint32_t v, double d, Key&& key) {
+  if (mark_[v] == kBlocked && !is_source_[v]) return;
+  const auto& g = *graph_;
+  for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {
+    const std::uint32_t w = g.head[slot].value();
+    if (mark_[w] == kForbidden) continue;
+    touch(w);
+    if (settled_[w]) continue;
+    const double nd = d + g.weight[slot];
+    if (nd < dist_[w]) {
+      dist_[w] = nd;
+      parent_[w] = g.halfedge[slot];
+      heap_.emplace_back(key(w, nd), w);
+      std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+    }
+  }
+}
+
 Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
                             const CancelToken& cancel) {
   std::size_t targets_left = 0;
@@ -80,7 +99,6 @@ Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distan
     for (VertexId t : targets) is_target_[t.index()] = 0;
   };
   std::uint32_t polls = 0;
-  const auto& g = *graph_;
   while (!heap_.empty()) {
     if (cancel.poll(polls)) {
       clear_targets();
@@ -95,20 +113,7 @@ Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distan
     settled_order_.push_back(VertexId(v));
     if (settled_order_.size() >= max_settled_) break;
     if (is_target_[v] && --targets_left == 0) break;
-    if (mark_[v] == kBlocked && !is_source_[v]) continue;
-    for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {
-      const std::uint32_t w = g.head[slot].value();
-      if (mark_[w] == kForbidden) continue;
-      touch(w);
-      if (settled_[w]) continue;
-      const double nd = d + g.weight[slot];
-      if (nd < dist_[w]) {
-        dist_[w] = nd;
-        parent_[w] = g.halfedge[slot];
-        heap_.emplace_back(nd, w);
-        std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
-      }
-    }
+    relax(v, d, [](std::uint32_t, double nd) { return nd; });
   }
   clear_targets();
   return Ok{};
@@ -121,7 +126,6 @@ Status PathSearch::run_astar(VertexId target, std::span<const Vec3> positions, c
   for (auto& entry : heap_) entry.first += estimate(entry.second);
   std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
   std::uint32_t polls = 0;
-  const auto& g = *graph_;
   const std::uint32_t t = target.value();
   while (!heap_.empty()) {
     if (cancel.poll(polls)) return cancelled_error("shortest-path search");
@@ -133,21 +137,7 @@ Status PathSearch::run_astar(VertexId target, std::span<const Vec3> positions, c
     settled_[v] = 1;
     settled_order_.push_back(VertexId(v));
     if (v == t) break;
-    if (mark_[v] == kBlocked && !is_source_[v]) continue;
-    const double d = dist_[v];
-    for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {
-      const std::uint32_t w = g.head[slot].value();
-      if (mark_[w] == kForbidden) continue;
-      touch(w);
-      if (settled_[w]) continue;
-      const double nd = d + g.weight[slot];
-      if (nd < dist_[w]) {
-        dist_[w] = nd;
-        parent_[w] = g.halfedge[slot];
-        heap_.emplace_back(nd + estimate(w), w);
-        std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
-      }
-    }
+    relax(v, dist_[v], [&](std::uint32_t w, double nd) { return nd + estimate(w); });
   }
   return Ok{};
 }

@@ -81,6 +81,10 @@ class PathSearch {
   static constexpr std::uint8_t kForbidden = 2;
 
   void touch(std::uint32_t v);
+  // Relaxes the edges out of the just-settled vertex v at distance d, pushing each improved
+  // neighbour w with heap key key(w, new distance). Blocked non-source vertices are not expanded.
+  template <class Key>
+  void relax(std::uint32_t v, double d, Key&& key);
   Status run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
                   const CancelToken& cancel);
 

@@ -17,7 +17,8 @@ Try it with the bundled sample (a procedural shape with five protrusions):
 
   curl -s -F mesh=@$sample -F 'params={"method":"skeleton"}' http://$bind:$port/seam | python3 -m json.tool | grep -v glb_base64 | head -n 60
 
-(the full answer also carries the cut asset as asset.glb_base64; add -F 'params={"output":"glb"}' -o cut.glb for the GLB itself)
+(the full answer also carries the cut asset as asset.glb_base64; for the GLB itself use
+ -F 'params={"method":"skeleton","output":"glb"}' -o cut.glb)
 
 MSG
 exec "$seamd" --bind "$bind" --port "$port"
