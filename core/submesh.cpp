@@ -6,33 +6,6 @@
 
 namespace seam::core {
 
-Result<ComponentMesh> extract_component(const HalfedgeMesh& mesh, const Topology& topology, std::uint32_t component) {
-  if (component >= topology.components.size()) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "component " + std::to_string(component) + " does not exist (the mesh has " +
-                          std::to_string(topology.components.size()) + ")");
-  }
-  ComponentMesh out;
-  std::vector<std::uint32_t> local(mesh.num_vertices(), VertexId::kInvalidValue);
-  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
-    if (topology.vertex_component[VertexId(v)] != component) continue;
-    local[v] = static_cast<std::uint32_t>(out.to_parent.size());
-    out.to_parent.push_back(VertexId(v));
-  }
-  std::vector<Vec3> positions;
-  positions.reserve(out.to_parent.size());
-  for (VertexId v : out.to_parent) positions.push_back(mesh.position(v));
-  std::vector<Triangle> triangles;
-  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    if (topology.face_component[FaceId(f)] != component) continue;
-    const auto vs = mesh.face_vertices(FaceId(f));
-    triangles.push_back({local[vs[0].index()], local[vs[1].index()], local[vs[2].index()]});
-    out.face_to_parent.push_back(FaceId(f));
-  }
-  SEAM_TRY(out.mesh, build_halfedge_mesh(positions, triangles));
-  return out;
-}
-
 Result<ComponentMesh> extract_faces(const HalfedgeMesh& mesh, std::span<const FaceId> faces) {
   ComponentMesh out;
   out.face_to_parent.assign(faces.begin(), faces.end());

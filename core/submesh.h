@@ -12,17 +12,13 @@
 
 namespace seam::core {
 
-/// One connected component as its own mesh. Local vertices are numbered in increasing order
+/// A set of faces (one connected component, in compute_seam) as its own mesh. Local vertices are numbered in increasing order
 /// of their parent ids and faces keep their relative order, so the result is deterministic.
 struct ComponentMesh {
   HalfedgeMesh mesh;
   std::vector<VertexId> to_parent;  ///< local vertex -> vertex of the parent mesh
   std::vector<FaceId> face_to_parent;  ///< local face -> face of the parent mesh
 };
-
-/// Extracts component `component` of `topology` (computed from `mesh`).
-/// Errors: kInvalidArgument (component out of range). O(V + F) of the parent.
-Result<ComponentMesh> extract_component(const HalfedgeMesh& mesh, const Topology& topology, std::uint32_t component);
 
 /// Extracts the given faces (in the given order) and the vertices they use as a mesh.
 /// Costs O(f log f) in the number of faces only, so extracting every component of a mesh with
