@@ -50,11 +50,18 @@ Soup cut_cylinder(int around, int rows, double r, double h) {
   return s;
 }
 
-/// The upper half (z > -eps) of an icosphere, with unused vertices dropped.
-Soup hemisphere(int levels) {
-  const Soup sphere = seam::fixtures::icosphere(levels);
-  Soup s;
-  std::vector<std::uint32_t> remap(sphere.positions.size(), VertexId::kInvalidValue);
+/// The triangles of `sphere` in its upper half (every corner at z > -eps), with unused
+/// vertices dropped; `remap` takes a vertex of `sphere` to its index in `soup`.
+struct HalfSoup {
+  Soup soup;
+  std::vector<std::uint32_t> remap;
+};
+
+HalfSoup upper_half(const Soup& sphere) {
+  HalfSoup half;
+  Soup& s = half.soup;
+  std::vector<std::uint32_t>& remap = half.remap;
+  remap.assign(sphere.positions.size(), VertexId::kInvalidValue);
   for (const auto& t : sphere.triangles) {
     if (!(sphere.positions[t[0]].z() > -1e-9 && sphere.positions[t[1]].z() > -1e-9 &&
           sphere.positions[t[2]].z() > -1e-9)) {
@@ -70,8 +77,11 @@ Soup hemisphere(int levels) {
     }
     s.triangles.push_back(out);
   }
-  return s;
+  return half;
 }
+
+/// The upper half of an icosphere.
+Soup hemisphere(int levels) { return upper_half(seam::fixtures::icosphere(levels)).soup; }
 
 void check_in_unit_square(const UvResult& r) {
   for (const Vec2& p : r.uv) {
@@ -187,25 +197,9 @@ TEST_CASE("BFF with u = 0 flattens a latitude-longitude hemisphere like stereogr
   // south pole, which sends polar angle theta to radius tan(theta / 2) (equator -> 1).
   const int around = 32;
   const int rows = 16;
-  const Soup sphere = seam::fixtures::uv_sphere(around, rows, /*split=*/false);
-  Soup s;
-  std::vector<std::uint32_t> remap(sphere.positions.size(), VertexId::kInvalidValue);
-  for (const auto& t : sphere.triangles) {
-    if (!(sphere.positions[t[0]].z() > -1e-9 && sphere.positions[t[1]].z() > -1e-9 &&
-          sphere.positions[t[2]].z() > -1e-9)) {
-      continue;
-    }
-    Triangle out;
-    for (int k = 0; k < 3; ++k) {
-      if (remap[t[k]] == VertexId::kInvalidValue) {
-        remap[t[k]] = static_cast<std::uint32_t>(s.positions.size());
-        s.positions.push_back(sphere.positions[t[k]]);
-      }
-      out[k] = remap[t[k]];
-    }
-    s.triangles.push_back(out);
-  }
-  const HalfedgeMesh mesh = build(s);
+  const HalfSoup half = upper_half(seam::fixtures::uv_sphere(around, rows, /*split=*/false));
+  const std::vector<std::uint32_t>& remap = half.remap;
+  const HalfedgeMesh mesh = build(half.soup);
   auto res = parameterize(mesh, {.method = UvMethod::kBff});
   REQUIRE(res.ok());
   CHECK(res->distortion.flipped == 0);
