@@ -20,7 +20,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::uint32_t kNone = VertexId::kInvalidValue;
 
-
 struct Component {
   std::vector<std::uint32_t> vertices;  // ascending vertex ids; local index = position here
   double area = 0;

@@ -36,8 +36,9 @@ struct TerminalPaths {
 
 /// Runs one early-exit Dijkstra per terminal but the last, each stopping once the later
 /// terminals are settled (on up to `threads` threads; 0 = hardware concurrency), and records
-/// all pairwise distances and paths. Deterministic regardless of the thread count. Errors: kInvalidArgument (fewer than 2 terminals, repeated or out-of-range
-/// terminal), kCancelled. Complexity: O(k E log V) work, k = number of terminals.
+/// all pairwise distances and paths. Deterministic regardless of the thread count.
+/// Errors: kInvalidArgument (fewer than 2 terminals, repeated or out-of-range terminal),
+/// kCancelled. Complexity: O(k E log V) work, k = number of terminals.
 Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                              std::span<const VertexId> terminals, unsigned threads = 0,
                                              const CancelToken& cancel = CancelToken::none());
