@@ -214,10 +214,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     timings["seam"] = ms_since(t);
 
     t = Clock::now();
-    std::vector<core::EdgeId> cut_edges = seam->seam_edges;
-    cut_edges.insert(cut_edges.end(), seam->cut_graph_edges.begin(), seam->cut_graph_edges.end());
-    std::sort(cut_edges.begin(), cut_edges.end());
-    cut_edges.erase(std::unique(cut_edges.begin(), cut_edges.end()), cut_edges.end());
+    const std::vector<core::EdgeId> cut_edges = core::all_cut_edges(*seam);
     auto cut = core::cut_along_edges(mesh, cut_edges);
     if (!cut.ok()) return from_core(cut.error());
     const core::Topology cut_topology = core::compute_topology(cut->mesh);

@@ -34,9 +34,7 @@ void run_row(const std::string& mesh_name, const char* label, const core::Halfed
     std::printf("%-10s %-10s %s\n", mesh_name.c_str(), label, seam.error().message.c_str());
     return;
   }
-  std::vector<core::EdgeId> cut_edges = seam->seam_edges;
-  cut_edges.insert(cut_edges.end(), seam->cut_graph_edges.begin(), seam->cut_graph_edges.end());
-  auto cut = core::cut_along_edges(mesh, cut_edges);
+  auto cut = core::cut_along_edges(mesh, core::all_cut_edges(*seam));
   if (!cut.ok()) {
     std::printf("%-10s %-10s cut failed: %s\n", mesh_name.c_str(), label, cut.error().message.c_str());
     return;

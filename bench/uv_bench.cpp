@@ -137,9 +137,7 @@ void seam_section(bool quick) {
                     extrema->size(), seam.error().message.c_str());
         continue;
       }
-      std::vector<EdgeId> edges = seam->seam_edges;
-      edges.insert(edges.end(), seam->cut_graph_edges.begin(), seam->cut_graph_edges.end());
-      auto cut = cut_along_edges(mesh, edges);
+      auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
       if (!cut.ok()) {
         std::printf("%-12s cut error: %s\n", name, cut.error().message.c_str());
         continue;

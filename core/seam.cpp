@@ -312,6 +312,13 @@ void sort_unique(std::vector<T>& values) {
 
 }  // namespace
 
+std::vector<EdgeId> all_cut_edges(const SeamResult& seam) {
+  std::vector<EdgeId> all = seam.seam_edges;
+  all.insert(all.end(), seam.cut_graph_edges.begin(), seam.cut_graph_edges.end());
+  sort_unique(all);
+  return all;
+}
+
 Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const VertexId> extrema, const SeamOptions& options,
                                 const CancelToken& cancel) {
   const std::size_t nv = mesh.num_vertices();
@@ -386,9 +393,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
   // The contract: seam plus cut graph opens every component into one disc. Checked here,
   // on the real cut, so a bug anywhere above is a typed error and not a wrong answer.
   start = Clock::now();
-  std::vector<EdgeId> all = result.seam_edges;
-  all.insert(all.end(), result.cut_graph_edges.begin(), result.cut_graph_edges.end());
-  sort_unique(all);
+  const std::vector<EdgeId> all = all_cut_edges(result);
   // Counting wedges, edges and faces per part gives the same answer as building the cut mesh
   // (core/cut_check.h) at a fraction of the cost on large meshes.
   if (auto disc = check_cut_is_disc(mesh, all); !disc.ok()) {

@@ -52,6 +52,9 @@ struct SeamResult {
   SeamStats stats;
 };
 
+/// Every edge to cut along: seam_edges and cut_graph_edges, sorted and without repeats.
+std::vector<EdgeId> all_cut_edges(const SeamResult& seam);
+
 /// Computes the seam on every connected component of `mesh`, each with the extrema that lie
 /// on it. Preconditions: `mesh` came from build_halfedge_mesh.
 /// Errors: kIndexOutOfRange (an extremum >= num_vertices or isolated), kTooManyTerminals

@@ -352,9 +352,7 @@ TEST_CASE("protrusion meshes cut by the skeleton seam: the default map meets the
   REQUIRE(extrema->size() >= 2);
   auto seam = compute_seam(mesh, *extrema, {.method = SeamMethod::kSkeleton});
   REQUIRE(seam.ok());
-  std::vector<EdgeId> edges = seam->seam_edges;
-  edges.insert(edges.end(), seam->cut_graph_edges.begin(), seam->cut_graph_edges.end());
-  auto cut = cut_along_edges(mesh, edges);
+  auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
   REQUIRE(cut.ok());
   REQUIRE(check_is_disc(cut->mesh).ok());
   auto lscm = parameterize(cut->mesh, {.method = UvMethod::kLscm});

@@ -44,14 +44,13 @@ std::map<std::uint32_t, int> seam_degrees(const HalfedgeMesh& mesh, const std::v
 // Independent re-check of the contract (not trusting compute_seam's own verification):
 // edges are mesh edges, sorted and unique, cutting gives one disc per component, the length is
 // the sum of the edges, and with `leaves` every extremum off the cut boundary is a leaf.
-void check_seam(const HalfedgeMesh& mesh, const SeamResult& r, bool leaves, bool touch_once = false) {
+// Returns the cut mesh.
+CutMesh check_seam(const HalfedgeMesh& mesh, const SeamResult& r, bool leaves, bool touch_once = false) {
   for (EdgeId e : r.seam_edges) REQUIRE(e.index() < mesh.num_edges());
   for (EdgeId e : r.cut_graph_edges) REQUIRE(e.index() < mesh.num_edges());
   CHECK(std::is_sorted(r.seam_edges.begin(), r.seam_edges.end()));
   CHECK(std::adjacent_find(r.seam_edges.begin(), r.seam_edges.end()) == r.seam_edges.end());
-  std::vector<EdgeId> all = r.seam_edges;
-  all.insert(all.end(), r.cut_graph_edges.begin(), r.cut_graph_edges.end());
-  auto cut = cut_along_edges(mesh, all);
+  auto cut = cut_along_edges(mesh, all_cut_edges(r));
   REQUIRE(cut.ok());
   REQUIRE(check_invariants(cut->mesh).ok());
   const Topology before = compute_topology(mesh);
@@ -64,17 +63,17 @@ void check_seam(const HalfedgeMesh& mesh, const SeamResult& r, bool leaves, bool
   double length = 0;
   for (EdgeId e : r.seam_edges) length += mesh.edge_length(e);
   CHECK(r.length == doctest::Approx(length));
+  std::set<std::uint32_t> on_cut_graph;
+  for (EdgeId e : r.cut_graph_edges) {
+    on_cut_graph.insert(mesh.tail(HalfedgeMesh::halfedge(e)).value());
+    on_cut_graph.insert(mesh.head(HalfedgeMesh::halfedge(e)).value());
+  }
   if (touch_once) {
     // The boundary terminal of each component is touched at one point.
     std::map<std::uint32_t, int> touches;
-    std::set<std::uint32_t> on_cut;
-    for (EdgeId e : r.cut_graph_edges) {
-      on_cut.insert(mesh.tail(HalfedgeMesh::halfedge(e)).value());
-      on_cut.insert(mesh.head(HalfedgeMesh::halfedge(e)).value());
-    }
     for (VertexId t : r.terminals) {
       if (std::find(r.extrema.begin(), r.extrema.end(), t) == r.extrema.end() &&
-          (mesh.is_boundary(t) || on_cut.count(t.value()))) {
+          (mesh.is_boundary(t) || on_cut_graph.count(t.value()))) {
         ++touches[before.vertex_component[t]];
       }
     }
@@ -85,11 +84,6 @@ void check_seam(const HalfedgeMesh& mesh, const SeamResult& r, bool leaves, bool
   }
   if (leaves) {
     const auto degree = seam_degrees(mesh, r.seam_edges);
-    std::set<std::uint32_t> on_cut_graph;
-    for (EdgeId e : r.cut_graph_edges) {
-      on_cut_graph.insert(mesh.tail(HalfedgeMesh::halfedge(e)).value());
-      on_cut_graph.insert(mesh.head(HalfedgeMesh::halfedge(e)).value());
-    }
     for (VertexId x : r.extrema) {
       if (mesh.is_boundary(x) || on_cut_graph.count(x.value())) continue;
       const auto it = degree.find(x.value());
@@ -97,6 +91,7 @@ void check_seam(const HalfedgeMesh& mesh, const SeamResult& r, bool leaves, bool
       CHECK((it != degree.end() && it->second == 1));
     }
   }
+  return std::move(cut).value();
 }
 
 // A genus-0 closed component's seam is a tree: connected, |E| = |V| - 1.
@@ -335,16 +330,12 @@ TEST_CASE("property: random extrema sets never crash, always cut a disc, and fla
       CAPTURE(std::string(seam_method_name(m)));
       auto r = compute_seam(mesh, extrema, {.method = m});
       REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
-      check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
+      const CutMesh cut = check_seam(mesh, *r, keeps_leaves(m), m == SeamMethod::kOptimal);
       // Whatever the seam, the default flattening of the cut is flip-free and inside [0,1]^2.
-      std::vector<EdgeId> cut_edges = r->seam_edges;
-      cut_edges.insert(cut_edges.end(), r->cut_graph_edges.begin(), r->cut_graph_edges.end());
-      auto cut = cut_along_edges(mesh, cut_edges);
-      REQUIRE(cut.ok());
-      auto uv = parameterize(cut->mesh);
+      auto uv = parameterize(cut.mesh);
       REQUIRE_MESSAGE(uv.ok(), (uv.ok() ? "" : uv.error().message));
       CHECK(uv->distortion.flipped == 0);
-      for (std::size_t v = 0; v < cut->mesh.num_vertices(); ++v) {
+      for (std::size_t v = 0; v < cut.mesh.num_vertices(); ++v) {
         const Vec2 p = uv->uv[VertexId(v)];
         CHECK((p.x() >= 0 && p.x() <= 1 && p.y() >= 0 && p.y() <= 1));
       }
