@@ -10,7 +10,7 @@
 
 #include "api/error.h"
 #include "api/gltf_reader.h"
-#include "core/types.h"
+#include "core/mesh/types.h"
 
 namespace draco {
 class Mesh;

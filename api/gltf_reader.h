@@ -19,7 +19,7 @@
 
 #include "api/error.h"
 #include "api/pipeline.h"
-#include "core/types.h"
+#include "core/mesh/types.h"
 
 namespace seam::api {
 

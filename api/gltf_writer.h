@@ -12,7 +12,7 @@
 #include "api/draco_io.h"
 #include "api/error.h"
 #include "api/gltf_reader.h"
-#include "core/types.h"
+#include "core/mesh/types.h"
 
 namespace seam::api {
 

@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "api/error.h"
-#include "core/types.h"
+#include "core/mesh/types.h"
 
 namespace seam::api {
 

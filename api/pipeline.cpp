@@ -10,12 +10,12 @@
 
 #include "api/gltf_reader.h"
 #include "api/gltf_writer.h"
-#include "core/cut.h"
-#include "core/halfedge_mesh.h"
-#include "core/topology.h"
-#include "core/split_pinched.h"
-#include "core/vertex_order.h"
-#include "core/weld.h"
+#include "core/mesh/cut.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/split_pinched.h"
+#include "core/mesh/vertex_order.h"
+#include "core/mesh/weld.h"
 
 namespace seam::api {
 namespace {

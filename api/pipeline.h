@@ -13,9 +13,9 @@
 
 #include "api/error.h"
 #include "core/cancel.h"
-#include "core/extrema.h"
-#include "core/parameterize.h"
-#include "core/seam.h"
+#include "core/extrema/extrema.h"
+#include "core/uv/parameterize.h"
+#include "core/seam/seam.h"
 
 namespace seam::api {
 

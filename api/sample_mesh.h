@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "api/error.h"
-#include "core/types.h"
+#include "core/mesh/types.h"
 
 namespace seam::api {
 

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "api/mesh_io.h"
-#include "core/halfedge_mesh.h"
-#include "core/types.h"
-#include "core/vertex_order.h"
-#include "core/weld.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/types.h"
+#include "core/mesh/vertex_order.h"
+#include "core/mesh/weld.h"
 
 namespace seam::bench {
 

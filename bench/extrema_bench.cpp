@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "core/extrema.h"
-#include "core/seam.h"
-#include "core/weld.h"
+#include "core/extrema/extrema.h"
+#include "core/seam/seam.h"
+#include "core/mesh/weld.h"
 
 using namespace seam;
 using namespace seam::core;

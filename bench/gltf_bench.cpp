@@ -10,8 +10,8 @@
 #include "api/gltf_reader.h"
 #include "api/gltf_writer.h"
 #include "api/mesh_io.h"
-#include "core/halfedge_mesh.h"
-#include "core/weld.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/weld.h"
 
 namespace {
 

@@ -4,10 +4,10 @@
 #include <cstdio>
 
 #include "bench_util.h"
-#include "core/geodesic.h"
-#include "core/halfedge_mesh.h"
-#include "core/topology.h"
-#include "core/weld.h"
+#include "core/paths/geodesic.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
 
 using namespace seam;
 

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "core/seam.h"
-#include "core/topology.h"
-#include "core/weld.h"
+#include "core/seam/seam.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
 #include "seam_fixtures.h"
 
 using namespace seam;

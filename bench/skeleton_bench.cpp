@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "core/baselines.h"
-#include "core/skeleton_trace.h"
-#include "core/steiner.h"
-#include "core/topology.h"
-#include "core/weld.h"
+#include "core/seam/baselines.h"
+#include "core/seam/skeleton_trace.h"
+#include "core/paths/steiner.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
 #include "skeleton_fixtures.h"
 
 using namespace seam;

@@ -16,13 +16,13 @@
 
 #include "api/mesh_io.h"
 #include "bench_util.h"
-#include "core/cut.h"
-#include "core/extrema.h"
-#include "core/halfedge_mesh.h"
-#include "core/parameterize.h"
-#include "core/seam.h"
-#include "core/topology.h"
-#include "core/weld.h"
+#include "core/mesh/cut.h"
+#include "core/extrema/extrema.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/uv/parameterize.h"
+#include "core/seam/seam.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
 
 using namespace seam::core;
 

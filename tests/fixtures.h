@@ -8,8 +8,8 @@
 #include <tuple>
 #include <vector>
 
-#include "core/halfedge_mesh.h"
-#include "core/types.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/types.h"
 
 namespace seam::fixtures {
 

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <vector>
 
-#include "core/geodesic.h"
-#include "core/halfedge_mesh.h"
+#include "core/paths/geodesic.h"
+#include "core/mesh/halfedge_mesh.h"
 #include "fixtures.h"
 
 namespace seam::fixtures {

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "api/mesh_io.h"
-#include "core/halfedge_mesh.h"
-#include "core/weld.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/weld.h"
 
 namespace seam::test_data {
 

@@ -10,8 +10,8 @@
 #include "api/cli.h"
 #include "api/gltf_reader.h"
 #include "api/sample_mesh.h"
-#include "core/halfedge_mesh.h"
-#include "core/topology.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
 #include "gltf_test_util.h"
 #include "test_data.h"
 

@@ -5,8 +5,8 @@
 #include <numeric>
 #include <random>
 
-#include "core/baselines.h"
-#include "core/skeleton.h"
+#include "core/seam/baselines.h"
+#include "core/seam/skeleton.h"
 #include "fixture_mesh.h"
 #include "seam_fixtures.h"
 

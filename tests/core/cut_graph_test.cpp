@@ -3,9 +3,9 @@
 #include <map>
 #include <numbers>
 
-#include "core/cut.h"
-#include "core/cut_graph.h"
-#include "core/topology.h"
+#include "core/mesh/cut.h"
+#include "core/seam/cut_graph.h"
+#include "core/mesh/topology.h"
 #include "fixture_mesh.h"
 #include "test_data.h"
 

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <random>
 
-#include "core/cut.h"
-#include "core/cut_check.h"
-#include "core/geodesic.h"
-#include "core/topology.h"
+#include "core/mesh/cut.h"
+#include "core/mesh/cut_check.h"
+#include "core/paths/geodesic.h"
+#include "core/mesh/topology.h"
 #include "fixture_mesh.h"
 #include "test_data.h"
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/extrema.h"
-#include "core/geodesic.h"
-#include "core/topology.h"
+#include "core/extrema/extrema.h"
+#include "core/paths/geodesic.h"
+#include "core/mesh/topology.h"
 #include "extrema_fixtures.h"
 #include "fixtures.h"
 #include "test_data.h"

@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "core/geodesic.h"
+#include "core/paths/geodesic.h"
 #include "fixtures.h"
 
 using namespace seam::core;

@@ -1,6 +1,6 @@
 #include <doctest/doctest.h>
 
-#include "core/halfedge_mesh.h"
+#include "core/mesh/halfedge_mesh.h"
 #include "fixtures.h"
 
 using namespace seam::core;

@@ -7,13 +7,13 @@
 #include <numbers>
 #include <string>
 
-#include "core/cut.h"
-#include "core/distortion.h"
-#include "core/extrema.h"
-#include "core/halfedge_mesh.h"
-#include "core/parameterize.h"
-#include "core/seam.h"
-#include "core/topology.h"
+#include "core/mesh/cut.h"
+#include "core/uv/distortion.h"
+#include "core/extrema/extrema.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/uv/parameterize.h"
+#include "core/seam/seam.h"
+#include "core/mesh/topology.h"
 #include "fixtures.h"
 #include "test_data.h"
 

@@ -5,10 +5,10 @@
 #include <random>
 #include <set>
 
-#include "core/cut.h"
-#include "core/parameterize.h"
-#include "core/seam.h"
-#include "core/topology.h"
+#include "core/mesh/cut.h"
+#include "core/uv/parameterize.h"
+#include "core/seam/seam.h"
+#include "core/mesh/topology.h"
 #include "fixtures.h"
 #include "seam_fixtures.h"
 #include "test_data.h"

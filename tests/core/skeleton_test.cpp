@@ -6,12 +6,12 @@
 #include <random>
 #include <set>
 
-#include "core/shrink.h"
-#include "core/skeleton.h"
-#include "core/skeleton_trace.h"
-#include "core/steiner.h"
-#include "core/straighten.h"
-#include "core/tour.h"
+#include "core/seam/shrink.h"
+#include "core/seam/skeleton.h"
+#include "core/seam/skeleton_trace.h"
+#include "core/paths/steiner.h"
+#include "core/seam/straighten.h"
+#include "core/seam/tour.h"
 #include "fixtures.h"
 #include "skeleton_fixtures.h"
 #include "test_data.h"

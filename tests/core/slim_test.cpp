@@ -6,10 +6,10 @@
 #include <cmath>
 #include <limits>
 
-#include "core/bff.h"
-#include "core/slim.h"
-#include "core/topology.h"
-#include "core/uv_patch.h"
+#include "core/uv/bff.h"
+#include "core/uv/slim.h"
+#include "core/mesh/topology.h"
+#include "core/uv/uv_patch.h"
 #include "fixture_mesh.h"
 
 using namespace seam::core;

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "core/sparse_cholesky.h"
+#include "core/uv/sparse_cholesky.h"
 
 using seam::core::SparseCholesky;
 

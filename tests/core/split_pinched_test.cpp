@@ -2,10 +2,10 @@
 // unchanged, and the real pinched mesh (CGAL's cow) builds afterwards.
 #include <doctest/doctest.h>
 
-#include "core/halfedge_mesh.h"
-#include "core/split_pinched.h"
-#include "core/topology.h"
-#include "core/weld.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/split_pinched.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
 #include "fixtures.h"
 #include "test_data.h"
 

@@ -1,6 +1,6 @@
 #include <doctest/doctest.h>
 
-#include "core/steiner.h"
+#include "core/paths/steiner.h"
 #include "fixtures.h"
 
 using namespace seam::core;

@@ -1,7 +1,7 @@
 #include <doctest/doctest.h>
 
-#include "core/halfedge_mesh.h"
-#include "core/topology.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
 #include "fixtures.h"
 #include "test_data.h"
 

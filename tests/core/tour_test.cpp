@@ -4,8 +4,8 @@
 #include <numeric>
 #include <set>
 
-#include "core/steiner.h"
-#include "core/tour.h"
+#include "core/paths/steiner.h"
+#include "core/seam/tour.h"
 #include "fixtures.h"
 #include "skeleton_fixtures.h"
 

@@ -7,7 +7,7 @@
 #include <numeric>
 #include <random>
 
-#include "core/vertex_order.h"
+#include "core/mesh/vertex_order.h"
 #include "fixtures.h"
 
 using namespace seam::core;

@@ -1,8 +1,8 @@
 #include <doctest/doctest.h>
 
-#include "core/halfedge_mesh.h"
-#include "core/topology.h"
-#include "core/weld.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
 #include "fixtures.h"
 
 using namespace seam::core;

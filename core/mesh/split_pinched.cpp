@@ -1,0 +1,82 @@
+#include "core/mesh/split_pinched.h"
+
+#include <algorithm>
+#include <tuple>
+
+#include "core/seam/tree_util.h"
+
+namespace seam::core {
+
+PinchSplit split_pinched_vertices(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+  const std::size_t n = positions.size();
+  const std::size_t nf = triangles.size();
+  PinchSplit out;
+  out.positions.assign(positions.begin(), positions.end());
+  out.triangles.assign(triangles.begin(), triangles.end());
+  out.source.resize(n);
+  for (std::uint32_t v = 0; v < n; ++v) out.source[v] = v;
+
+  auto valid = [&](const Triangle& t) {
+    return t[0] < n && t[1] < n && t[2] < n && t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+  };
+  // Corners 3t + k. Triangles sharing edge {a, b} join their corners at a and at b.
+  struct EdgeUse {
+    std::uint64_t key;
+    std::uint32_t corner_low;   // the corner at min(a, b)
+    std::uint32_t corner_high;  // the corner at max(a, b)
+  };
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * nf);
+  for (std::uint32_t t = 0; t < nf; ++t) {
+    const Triangle& tri = triangles[t];
+    if (!valid(tri)) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t j = (k + 1) % 3;
+      std::uint32_t ca = 3 * t + k, cb = 3 * t + j;
+      std::uint32_t a = tri[k], b = tri[j];
+      if (a > b) std::swap(a, b), std::swap(ca, cb);
+      uses.push_back({(std::uint64_t{a} << 32) | b, ca, cb});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return std::tie(x.key, x.corner_low) < std::tie(y.key, y.corner_low);
+  });
+  detail::UnionFind fans(3 * nf);
+  for (std::size_t i = 1; i < uses.size(); ++i) {
+    if (uses[i].key != uses[i - 1].key) continue;
+    fans.unite(uses[i].corner_low, uses[i - 1].corner_low);
+    fans.unite(uses[i].corner_high, uses[i - 1].corner_high);
+  }
+
+  // Per vertex, its corners grouped by fan (the root is the fan's lowest corner).
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> corners;  // (vertex, fan root, corner)
+  corners.reserve(3 * nf);
+  for (std::uint32_t t = 0; t < nf; ++t) {
+    if (!valid(triangles[t])) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) corners.emplace_back(triangles[t][k], fans.find(3 * t + k), 3 * t + k);
+  }
+  std::sort(corners.begin(), corners.end());
+  std::size_t i = 0;
+  while (i < corners.size()) {
+    const std::uint32_t v = std::get<0>(corners[i]);
+    const std::uint32_t first_fan = std::get<1>(corners[i]);
+    bool pinched = false;
+    std::uint32_t fan = first_fan;
+    std::uint32_t copy = v;
+    for (; i < corners.size() && std::get<0>(corners[i]) == v; ++i) {
+      const auto [vertex, root, corner] = corners[i];
+      if (root != fan) {
+        fan = root;
+        copy = static_cast<std::uint32_t>(out.positions.size());
+        out.positions.push_back(positions[v]);
+        out.source.push_back(v);
+        pinched = true;
+      }
+      if (fan != first_fan) out.triangles[corner / 3][corner % 3] = copy;
+    }
+    if (pinched) ++out.pinched_vertices;
+  }
+  return out;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,80 @@
+// A 4-ary indexed min-heap of vertex indices with decrease-key, shared by the Dijkstra
+// searches of core/paths/geodesic.cpp and core/extrema/extrema.cpp.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace seam::core {
+
+// Keyed by an external distance array that the caller owns and updates before calling
+// push_or_decrease. Compared with std::priority_queue and lazy deletion it holds each vertex
+// at most once (V entries instead of up to E), which halves the memory traffic on large
+// meshes; ties are ordered by index, so every search settles vertices in one deterministic
+// order. A popped vertex may be pushed again (callers reuse one heap across searches).
+class IndexedHeap {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  IndexedHeap(const std::vector<double>& key, std::size_t size) : key_(key), position_(size, kNone) {}
+  bool empty() const { return heap_.empty(); }
+
+  void push_or_decrease(std::uint32_t v) {
+    std::uint32_t i = position_[v];
+    if (i == kNone) {
+      i = static_cast<std::uint32_t>(heap_.size());
+      heap_.push_back(v);
+    }
+    sift_up(i, v);
+  }
+
+  std::uint32_t pop() {
+    const std::uint32_t top = heap_[0];
+    position_[top] = kNone;
+    const std::uint32_t last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) sift_down(0, last);
+    return top;
+  }
+
+ private:
+  bool less(std::uint32_t a, std::uint32_t b) const {
+    return key_[a] < key_[b] || (key_[a] == key_[b] && a < b);
+  }
+  void place(std::uint32_t i, std::uint32_t v) {
+    heap_[i] = v;
+    position_[v] = i;
+  }
+  void sift_up(std::uint32_t i, std::uint32_t v) {
+    while (i > 0) {
+      const std::uint32_t parent = (i - 1) / 4;
+      if (!less(v, heap_[parent])) break;
+      place(i, heap_[parent]);
+      i = parent;
+    }
+    place(i, v);
+  }
+  void sift_down(std::uint32_t i, std::uint32_t v) {
+    const auto n = static_cast<std::uint32_t>(heap_.size());
+    while (true) {
+      const std::uint32_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::uint32_t best = first;
+      const std::uint32_t end = std::min(first + 4, n);
+      for (std::uint32_t c = first + 1; c < end; ++c) {
+        if (less(heap_[c], heap_[best])) best = c;
+      }
+      if (!less(heap_[best], v)) break;
+      place(i, heap_[best]);
+      i = best;
+    }
+    place(i, v);
+  }
+
+  const std::vector<double>& key_;
+  std::vector<std::uint32_t> position_;
+  std::vector<std::uint32_t> heap_;
+};
+
+}  // namespace seam::core

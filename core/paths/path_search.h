@@ -1,0 +1,107 @@
+// A reusable Dijkstra workspace for the many small searches of the skeleton seam (§4.4
+// straightening, Steiner point relocation): buffers are allocated once per mesh and reset
+// in time proportional to what the last search touched, not to the mesh size.
+#pragma once
+
+#include <cstdint>
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/paths/geodesic.h"
+#include "core/mesh/halfedge_mesh.h"
+
+namespace seam::core {
+
+/// Dijkstra on an EdgeGraph with O(touched) resets between runs. Not thread-safe; one per
+/// thread. Vertex states set with block()/forbid() persist across runs until clear_marks().
+class PathSearch {
+ public:
+  static constexpr double kUnreached = std::numeric_limits<double>::infinity();
+
+  /// `graph` must outlive the search. O(V) allocation, once.
+  explicit PathSearch(const EdgeGraph& graph);
+
+  /// A blocked vertex may end a path (it is settled) but no path passes through it;
+  /// sources are always expanded. A forbidden vertex is never entered at all.
+  void block(VertexId v);
+  void forbid(VertexId v);
+  /// Lifts every block() and forbid(). O(number of marked vertices).
+  void clear_marks();
+  bool is_blocked(VertexId v) const { return mark_[v.index()] == kBlocked; }
+  bool is_forbidden(VertexId v) const { return mark_[v.index()] == kForbidden; }
+
+  /// Starts a new search: forgets the previous one's distances. O(touched by the last run).
+  void reset();
+  /// Adds a source at distance `offset` (>= 0); a repeated source keeps its smaller offset.
+  void add_source(VertexId v, double offset = 0.0);
+  /// Runs until every target is settled (empty: until exhausted) or the next vertex is
+  /// farther than max_distance. Errors: kCancelled. O(touched log touched).
+  Status run(std::span<const VertexId> targets = {}, double max_distance = kUnreached,
+             const CancelToken& cancel = CancelToken::none()) {
+    return run_impl(targets, max_distance, false, cancel);
+  }
+  /// A* towards one target with the straight-line distance to `positions[target]` as the
+  /// estimate. Valid only when every edge weighs at least its Euclidean length (the default
+  /// weights); distances and paths are then exactly Dijkstra's. Errors: kCancelled.
+  Status run_astar(VertexId target, std::span<const Vec3> positions, const CancelToken& cancel = CancelToken::none());
+  /// Like run() without targets, but also stops once `max_settled` vertices are settled.
+  Status run_limited(double max_distance, std::size_t max_settled, const CancelToken& cancel = CancelToken::none()) {
+    max_settled_ = max_settled;
+    auto st = run_impl({}, max_distance, false, cancel);
+    max_settled_ = SIZE_MAX;
+    return st;
+  }
+  /// Runs until the first of `targets` is settled (the nearest one). Errors: kCancelled.
+  Status run_to_nearest(std::span<const VertexId> targets, const CancelToken& cancel = CancelToken::none()) {
+    return run_impl(targets, kUnreached, true, cancel);
+  }
+
+  /// Settled distance of v from the sources, kUnreached if not settled by the last run.
+  double distance(VertexId v) const {
+    return stamp_[v.index()] == generation_ && settled_[v.index()] ? dist_[v.index()] : kUnreached;
+  }
+  bool reached(VertexId v) const { return distance(v) != kUnreached; }
+  /// Half-edge into v on its shortest path (invalid at a source or when unreached).
+  HalfedgeId parent(VertexId v) const {
+    return stamp_[v.index()] == generation_ ? parent_[v.index()] : HalfedgeId();
+  }
+  /// The path from its source to v, in order; empty when v is a source or unreached.
+  std::vector<HalfedgeId> path_to(const HalfedgeMesh& mesh, VertexId v) const;
+  /// Vertices settled by the last run, in settling order (nondecreasing distance).
+  std::span<const VertexId> settled() const { return settled_order_; }
+
+ private:
+  static constexpr std::uint8_t kFree = 0;
+  static constexpr std::uint8_t kBlocked = 1;
+  static constexpr std::uint8_t kForbidden = 2;
+
+  void touch(std::uint32_t v);
+  // Relaxes the edges out of the just-settled vertex v at distance d, pushing each improved
+  // neighbour w with heap key key(w, new distance). Blocked non-source vertices are not expanded.
+  template <class Key>
+  void relax(std::uint32_t v, double d, Key&& key);
+  Status run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
+                  const CancelToken& cancel);
+
+  const EdgeGraph* graph_;
+  std::vector<double> dist_;
+  std::vector<HalfedgeId> parent_;
+  std::vector<std::uint32_t> stamp_;  // == generation_ when dist_/parent_ belong to this run
+  std::vector<std::uint8_t> settled_;
+  std::vector<std::uint8_t> is_source_;
+  std::vector<std::uint8_t> mark_;
+  std::vector<std::uint32_t> marked_;
+  std::vector<std::uint32_t> touched_;
+  std::vector<VertexId> settled_order_;
+  std::vector<std::pair<double, std::uint32_t>> heap_;
+  std::vector<std::uint8_t> is_target_;
+  std::uint32_t generation_ = 1;
+  std::size_t max_settled_ = SIZE_MAX;
+};
+
+}  // namespace seam::core

@@ -1,0 +1,134 @@
+#include "core/seam/cut_graph.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "core/paths/geodesic.h"
+#include "core/mesh/submesh.h"
+#include "core/mesh/topology.h"
+
+namespace seam::core {
+
+Result<std::vector<EdgeId>> compute_cut_graph(const HalfedgeMesh& mesh, const CancelToken& cancel) {
+  const Topology topo = compute_topology(mesh);
+  std::vector<std::uint8_t> needs(topo.components.size(), 0);
+  bool any = false;
+  for (std::size_t c = 0; c < topo.components.size(); ++c) {
+    needs[c] = topo.components[c].genus > 0 || topo.components[c].boundary_loops > 1;
+    any = any || needs[c];
+  }
+  if (!any) return std::vector<EdgeId>{};
+
+  SEAM_TRY(ConedMesh coned, cone_boundary_loops(mesh));
+  const HalfedgeMesh& closed = coned.mesh;
+  const std::size_t nv = closed.num_vertices();
+  const std::size_t nv_orig = coned.num_original_vertices;
+
+  // Component of every coned vertex (apexes take their loop's component).
+  auto component_of = [&](VertexId v) {
+    if (v.index() < nv_orig) return topo.vertex_component[v];
+    return topo.boundary_loop_component[v.index() - nv_orig];
+  };
+
+  std::vector<VertexId> roots;
+  {
+    std::vector<std::uint8_t> has_root(topo.components.size(), 0);
+    for (std::size_t l = 0; l < topo.boundary_loops.size(); ++l) {
+      const std::uint32_t c = topo.boundary_loop_component[l];
+      if (needs[c] && !has_root[c]) {
+        has_root[c] = 1;
+        roots.push_back(coned.apexes[l]);
+      }
+    }
+    for (std::size_t v = 0; v < nv_orig; ++v) {
+      const std::uint32_t c = topo.vertex_component[VertexId(v)];
+      if (c != VertexId::kInvalidValue && needs[c] && !has_root[c]) {
+        has_root[c] = 1;
+        roots.push_back(VertexId(v));
+      }
+    }
+  }
+
+  const EdgeGraph graph = build_edge_graph(closed, coned.edge_weights);
+  SEAM_TRY(ShortestPathTree spt, dijkstra(graph, roots, {}, cancel));
+
+  const std::size_t ne = closed.num_edges();
+  std::vector<std::uint8_t> in_graph(ne, 0);  // T, then T plus leftover edges
+  for (std::size_t v = 0; v < nv; ++v) {
+    const HalfedgeId p = spt.parent[v];
+    if (p.valid()) in_graph[HalfedgeMesh::edge(p).index()] = 1;
+  }
+
+  // Cotree: maximum spanning forest of the dual graph over the non-tree edges, heaviest
+  // loops first, so the leftover edges close the shortest loops (greedy homotopy basis).
+  std::vector<std::uint32_t> candidates;
+  std::vector<double> loop_length(ne, 0.0);
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (in_graph[e]) continue;
+    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+    const VertexId a = closed.tail(h);
+    if (!spt.reached(a) || !needs[component_of(a)]) continue;
+    const VertexId b = closed.head(h);
+    loop_length[e] = spt.distance[a.index()] + spt.distance[b.index()] + coned.edge_weights[e];
+    candidates.push_back(static_cast<std::uint32_t>(e));
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](std::uint32_t x, std::uint32_t y) { return loop_length[x] > loop_length[y]; });
+  std::vector<std::uint32_t> parent(closed.num_faces());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::uint32_t polls = 0;
+  for (std::uint32_t e : candidates) {
+    if (cancel.poll(polls)) return cancelled_error("cut graph");
+    const std::uint32_t f = find(closed.face(HalfedgeMesh::halfedge(EdgeId(e), 0)).value());
+    const std::uint32_t g = find(closed.face(HalfedgeMesh::halfedge(EdgeId(e), 1)).value());
+    if (f != g) {
+      parent[f] = g;
+    } else {
+      in_graph[e] = 1;  // leftover: closes a non-contractible loop
+    }
+  }
+
+  // Prune dangling tree branches; apexes stay so every boundary loop remains joined.
+  std::vector<std::uint32_t> degree(nv, 0);
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (!in_graph[e]) continue;
+    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+    ++degree[closed.tail(h).index()];
+    ++degree[closed.head(h).index()];
+  }
+  std::vector<VertexId> stack;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (degree[v] == 1 && !coned.is_apex(VertexId(v))) stack.push_back(VertexId(v));
+  }
+  while (!stack.empty()) {
+    if (cancel.poll(polls)) return cancelled_error("cut graph");
+    const VertexId v = stack.back();
+    stack.pop_back();
+    if (degree[v.index()] != 1) continue;
+    closed.for_each_outgoing(v, [&](HalfedgeId h) {
+      const std::size_t e = HalfedgeMesh::edge(h).index();
+      if (!in_graph[e]) return;
+      in_graph[e] = 0;
+      --degree[v.index()];
+      const VertexId w = closed.head(h);
+      if (--degree[w.index()] == 1 && !coned.is_apex(w)) stack.push_back(w);
+    });
+  }
+
+  std::vector<EdgeId> kept;
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (in_graph[e] && !coned.is_virtual(EdgeId(e))) kept.push_back(EdgeId(e));
+  }
+  std::vector<VertexId> to_mesh(nv);
+  for (std::size_t v = 0; v < nv; ++v) to_mesh[v] = v < nv_orig ? VertexId(v) : VertexId();
+  std::vector<EdgeId> out = map_edges(closed, to_mesh, mesh, kept);
+  // A boundary edge is already open; cutting it again would change nothing.
+  out.erase(std::remove_if(out.begin(), out.end(), [&](EdgeId e) { return mesh.is_boundary(e); }), out.end());
+  return out;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,378 @@
+#include "core/seam/refine.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <utility>
+
+#include "core/paths/indexed_heap.h"
+#include "core/paths/path_search.h"
+#include "core/seam/straighten.h"
+#include "core/seam/tree_util.h"
+
+namespace seam::core {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double weight_of(const HalfedgeMesh& mesh, std::span<const double> edge_weights, EdgeId e) {
+  return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
+}
+
+// Dreyfus–Wagner on a region of the mesh, with port *sets*: port i may be joined at any
+// vertex of its set (a loose subtree's non-terminal vertices, or a loose terminal alone).
+class LocalSteiner {
+ public:
+  LocalSteiner(const HalfedgeMesh& mesh, const EdgeGraph& graph) : mesh_(mesh), graph_(graph) {
+    local_of_.assign(mesh.num_vertices(), -1);
+  }
+
+  // `region`: global vertices; `obstacle[i]`, `terminal[i]`, `port_mask[i]` per region vertex.
+  // Returns the minimum cost and, through `out`, the tree's edges; kInf if no tree costs less
+  // than `bound`. Every partial tree of a tree cheaper than `bound` is itself cheaper (edge
+  // weights are positive), so states at or above it are never stored: an exact
+  // branch-and-bound that leaves every state below the bound, and so the answer, unchanged.
+  double solve(std::span<const VertexId> region, const std::vector<std::uint8_t>& obstacle,
+               const std::vector<std::uint8_t>& terminal, const std::vector<std::uint32_t>& port_mask,
+               std::size_t ports, double bound, std::vector<EdgeId>& out, const CancelToken& cancel,
+               bool& cancelled) {
+    const std::size_t n = region.size();
+    for (std::size_t i = 0; i < n; ++i) local_of_[region[i].index()] = static_cast<std::int32_t>(i);
+    // Local CSR adjacency.
+    offsets_.assign(n + 1, 0);
+    heads_.clear();
+    weights_.clear();
+    halfedges_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t v = region[i].value();
+      for (std::uint32_t slot = graph_.offsets[v]; slot < graph_.offsets[v + 1]; ++slot) {
+        const std::int32_t w = local_of_[graph_.head[slot].index()];
+        if (w < 0) continue;
+        heads_.push_back(static_cast<std::uint32_t>(w));
+        weights_.push_back(graph_.weight[slot]);
+        halfedges_.push_back(graph_.halfedge[slot]);
+      }
+      offsets_[i + 1] = static_cast<std::uint32_t>(heads_.size());
+    }
+    const std::uint32_t full = (1u << ports) - 1;
+    dp_.assign((full + 1) * n, kInf);
+    kind_.assign((full + 1) * n, 0);
+    data_.assign((full + 1) * n, 0);
+    auto at = [n](std::uint32_t s, std::size_t v) { return static_cast<std::size_t>(s) * n + v; };
+    auto expandable = [&](std::size_t v, std::uint32_t s) {
+      if (!obstacle[v]) return true;
+      if ((port_mask[v] & s) == 0) return false;
+      return !terminal[v] || (s & (s - 1)) == 0;  // a terminal port only as a leaf
+    };
+    auto merge_point = [&](std::size_t v, std::uint32_t s) {
+      return !terminal[v] && (!obstacle[v] || (port_mask[v] & s) != 0);
+    };
+    std::uint32_t polls = 0;
+    key_.assign(n, kInf);
+    IndexedHeap heap(key_, n);
+    for (std::uint32_t s = 1; s <= full; ++s) {
+      const bool singleton = (s & (s - 1)) == 0;
+      if (singleton) {
+        for (std::size_t v = 0; v < n; ++v) {
+          if (port_mask[v] & s) dp_[at(s, v)] = 0.0, kind_[at(s, v)] = kSource;
+        }
+      } else {
+        for (std::size_t v = 0; v < n; ++v) {
+          if (!merge_point(v, s)) continue;
+          double best = kInf;
+          std::uint32_t best_t = 0;
+          for (std::uint32_t t = (s - 1) & s; t > 0; t = (t - 1) & s) {
+            if (t < (s ^ t)) continue;  // each split once
+            const double c = dp_[at(t, v)] + dp_[at(s ^ t, v)];
+            if (c < best) best = c, best_t = t;
+          }
+          if (best < bound) dp_[at(s, v)] = best, kind_[at(s, v)] = kMerge, data_[at(s, v)] = best_t;
+        }
+      }
+      // Dijkstra for subset s on this subset's row, through the shared indexed 4-ary heap
+      // (each vertex at most once, ties by index: the same settling order as before).
+      std::copy(dp_.begin() + static_cast<std::ptrdiff_t>(at(s, 0)),
+                dp_.begin() + static_cast<std::ptrdiff_t>(at(s, 0) + n), key_.begin());
+      for (std::size_t v = 0; v < n; ++v) {
+        if (key_[v] < kInf) heap.push_or_decrease(static_cast<std::uint32_t>(v));
+      }
+      while (!heap.empty()) {
+        if (cancel.poll(polls)) {
+          cancelled = true;
+          clear(region);
+          return kInf;
+        }
+        const std::uint32_t v = heap.pop();
+        if (!expandable(v, s)) continue;
+        const double d = key_[v];
+        for (std::uint32_t slot = offsets_[v]; slot < offsets_[v + 1]; ++slot) {
+          const std::uint32_t w = heads_[slot];
+          const double nd = d + weights_[slot];
+          if (nd < key_[w] && nd < bound) {
+            key_[w] = nd;
+            dp_[at(s, w)] = nd;
+            kind_[at(s, w)] = kEdge;
+            data_[at(s, w)] = halfedges_[slot].value();
+            heap.push_or_decrease(w);
+          }
+        }
+      }
+    }
+    std::size_t root = n;
+    for (std::size_t v = 0; v < n; ++v) {
+      if (dp_[at(full, v)] < kInf && (root == n || dp_[at(full, v)] < dp_[at(full, root)])) root = v;
+    }
+    double cost = kInf;
+    out.clear();
+    if (root < n) {
+      cost = dp_[at(full, root)];
+      std::vector<std::pair<std::uint32_t, std::size_t>> stack = {{full, root}};
+      while (!stack.empty()) {
+        const auto [s, v] = stack.back();
+        stack.pop_back();
+        switch (kind_[at(s, v)]) {
+          case kSource:
+            break;
+          case kMerge:
+            stack.emplace_back(data_[at(s, v)], v);
+            stack.emplace_back(s ^ data_[at(s, v)], v);
+            break;
+          case kEdge: {
+            const HalfedgeId h(data_[at(s, v)]);
+            out.push_back(HalfedgeMesh::edge(h));
+            stack.emplace_back(s, static_cast<std::size_t>(local_of_[mesh_.tail(h).index()]));
+            break;
+          }
+          default:
+            SEAM_ASSERT(false);
+        }
+      }
+    }
+    clear(region);
+    return cost;
+  }
+
+ private:
+  static constexpr std::uint8_t kSource = 1;
+  static constexpr std::uint8_t kMerge = 2;
+  static constexpr std::uint8_t kEdge = 3;
+
+  void clear(std::span<const VertexId> region) {
+    for (VertexId v : region) local_of_[v.index()] = -1;
+  }
+
+  const HalfedgeMesh& mesh_;
+  const EdgeGraph& graph_;
+  std::vector<std::int32_t> local_of_;
+  std::vector<std::uint32_t> offsets_;
+  std::vector<std::uint32_t> heads_;
+  std::vector<double> weights_;
+  std::vector<HalfedgeId> halfedges_;
+  std::vector<double> dp_;
+  std::vector<std::uint8_t> kind_;
+  std::vector<std::uint32_t> data_;
+  std::vector<double> key_;  // the current subset's row of dp_, keyed by the heap
+};
+
+double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights, std::span<const EdgeId> edges) {
+  double total = 0.0;
+  for (EdgeId e : edges) total += weight_of(mesh, edge_weights, e);
+  return total;
+}
+
+}  // namespace
+
+Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                        std::span<const double> edge_weights, std::span<const VertexId> terminals,
+                                        std::span<const EdgeId> edges, const RefineOptions& options,
+                                        RefineStats* stats, const CancelToken& cancel) {
+  RefineStats local_stats;
+  RefineStats& st = stats ? *stats : local_stats;
+  st = RefineStats{};
+  if (auto valid = check_full_component_tree(mesh, edges, terminals); !valid.ok()) {
+    return make_error(ErrorCode::kInvalidArgument, "refine_tree needs a full-component tree: " + valid.error().message);
+  }
+  std::vector<EdgeId> current(edges.begin(), edges.end());
+  std::sort(current.begin(), current.end());
+  double current_length = tree_length(mesh, edge_weights, current);
+  st.length_before = current_length;
+  if (options.max_ports > 20) return make_error(ErrorCode::kInvalidArgument, "max_ports above 20");
+
+  const std::size_t nv = mesh.num_vertices();
+  std::vector<std::uint8_t> is_terminal(nv, 0);
+  for (VertexId t : terminals) is_terminal[t.index()] = 1;
+  PathSearch region_search(graph);
+  LocalSteiner solver(mesh, graph);
+  std::vector<std::uint32_t> removed_stamp(mesh.num_edges(), 0);
+  std::uint32_t stamp = 0;
+  std::vector<std::uint8_t> in_rest(nv, 0);
+  std::size_t work = 0;  // region vertices times port subsets solved so far
+
+  for (int pass = 0; pass < options.max_passes; ++pass) {
+    bool improved = false;
+    std::size_t index = 0;
+    std::size_t moves = 0;
+    SEAM_TRY(TreeTopology topo, skeleton_topology(mesh, graph, current, terminals, edge_weights, cancel));
+    auto pieces_of = [&](const TreeTopology& t) {
+      std::vector<std::vector<std::uint32_t>> pieces;
+      for (std::uint32_t s = static_cast<std::uint32_t>(t.num_terminals); s < t.nodes.size(); ++s) pieces.push_back({s});
+      for (const auto& link : t.links) {
+        if (link[0] >= t.num_terminals && link[1] >= t.num_terminals) pieces.push_back({link[0], link[1]});
+      }
+      return pieces;
+    };
+    auto pieces = pieces_of(topo);
+    while (index < pieces.size() && moves < 4 * pieces.size() + 8) {
+      if (cancel.is_cancelled()) return cancelled_error("seam refinement");
+      const auto& piece = pieces[index];
+      auto in_piece = [&](std::uint32_t node) { return std::find(piece.begin(), piece.end(), node) != piece.end(); };
+      // The branches at the piece, cut loose up to `reach` from the piece along each branch;
+      // the loose ends (ports) are where the cut branches now end.
+      struct Branch {
+        std::size_t link;
+        bool internal;
+        std::vector<HalfedgeId> course;  // from the outer end towards the piece
+        double length;
+      };
+      std::vector<Branch> branches;
+      double longest = 0.0;
+      for (std::size_t l = 0; l < topo.links.size(); ++l) {
+        const auto& link = topo.links[l];
+        const bool a_in = in_piece(link[0]), b_in = in_piece(link[1]);
+        if (!a_in && !b_in) continue;
+        Branch br{l, a_in && b_in, topo.paths[l], 0.0};
+        if (a_in && !b_in) {
+          std::reverse(br.course.begin(), br.course.end());
+          for (auto& h : br.course) h = HalfedgeMesh::twin(h);
+        }
+        for (HalfedgeId h : br.course) br.length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(h));
+        longest = std::max(longest, br.length);
+        branches.push_back(std::move(br));
+      }
+      // Cut the branches and take the region around the cut parts; where the region would be
+      // too large, cut less (halving the reach) so a piece costs a bounded amount of work.
+      std::vector<VertexId> ports;
+      std::vector<VertexId> removed_vertices;
+      double removed_length = 0.0;
+      bool region_ok = false;
+      double reach = options.reach * longest;
+      for (int attempt = 0; attempt < 5 && !region_ok; ++attempt, reach *= 0.5) {
+        ++stamp;
+        ports.clear();
+        removed_vertices.clear();
+        removed_length = 0.0;
+        for (const auto& br : branches) {
+          // Keep the outer part of the branch: edges whose far end is more than `reach` from
+          // the piece along the branch.
+          double from_piece = br.length;
+          std::size_t cut = 0;  // course[cut..] is removed
+          if (!br.internal) {
+            while (cut < br.course.size() && from_piece > reach) {
+              from_piece -= weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[cut]));
+              ++cut;
+            }
+            // `cut` edges leave the outer end; stop one short if that already is within reach.
+            if (cut > 0 && from_piece < reach) {
+              --cut;
+            }
+            ports.push_back(cut == 0 ? mesh.tail(br.course.front()) : mesh.head(br.course[cut - 1]));
+          }
+          if (cut < br.course.size()) removed_vertices.push_back(mesh.tail(br.course[cut]));
+          for (std::size_t i = cut; i < br.course.size(); ++i) {
+            removed_stamp[HalfedgeMesh::edge(br.course[i]).index()] = stamp;
+            removed_length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[i]));
+            removed_vertices.push_back(mesh.head(br.course[i]));
+          }
+        }
+        region_search.reset();
+        for (VertexId v : removed_vertices) region_search.add_source(v);
+        if (auto s = region_search.run_limited(reach, options.max_region + 1, cancel); !s.ok()) return s.take_error();
+        region_ok = region_search.settled().size() <= options.max_region;
+      }
+      ++index;
+      ++st.pieces_tried;
+      if (!region_ok || ports.size() < 2 || ports.size() > options.max_ports) continue;
+      // The rest of the tree falls into one subtree per port.
+      std::vector<EdgeId> rest;
+      for (EdgeId e : current) {
+        if (removed_stamp[e.index()] != stamp) rest.push_back(e);
+      }
+      detail::UnionFind uf(0);
+      // Union-find over the rest's vertices only, through a compact index.
+      std::vector<VertexId> rest_vertices;
+      for (EdgeId e : rest) {
+        rest_vertices.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+        rest_vertices.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+      }
+      for (VertexId p : ports) rest_vertices.push_back(p);
+      std::sort(rest_vertices.begin(), rest_vertices.end());
+      rest_vertices.erase(std::unique(rest_vertices.begin(), rest_vertices.end()), rest_vertices.end());
+      auto compact = [&](VertexId v) {
+        return static_cast<std::uint32_t>(std::lower_bound(rest_vertices.begin(), rest_vertices.end(), v) -
+                                          rest_vertices.begin());
+      };
+      uf.parent.resize(rest_vertices.size());
+      for (std::uint32_t i = 0; i < rest_vertices.size(); ++i) uf.parent[i] = i;
+      for (EdgeId e : rest) {
+        uf.unite(compact(mesh.tail(HalfedgeMesh::halfedge(e))), compact(mesh.head(HalfedgeMesh::halfedge(e))));
+      }
+      const auto region = region_search.settled();
+      for (VertexId v : rest_vertices) in_rest[v.index()] = 1;
+      std::vector<std::int32_t> port_of_root(rest_vertices.size(), -1);
+      for (std::size_t i = 0; i < ports.size(); ++i) {
+        port_of_root[uf.find(compact(ports[i]))] = static_cast<std::int32_t>(i);
+      }
+      std::vector<std::uint8_t> obstacle(region.size()), terminal(region.size());
+      std::vector<std::uint32_t> port_mask(region.size(), 0);
+      for (std::size_t i = 0; i < region.size(); ++i) {
+        const VertexId v = region[i];
+        terminal[i] = is_terminal[v.index()];
+        obstacle[i] = terminal[i] || in_rest[v.index()];
+        if (in_rest[v.index()]) {
+          const std::int32_t port = port_of_root[uf.find(compact(v))];
+          // A loose subtree may be joined at any non-terminal vertex; a loose terminal that
+          // is its whole subtree only as itself (it stays a leaf).
+          if (port >= 0 && (!terminal[i] || ports[static_cast<std::size_t>(port)] == v)) {
+            port_mask[i] = 1u << port;
+          }
+        }
+      }
+      for (VertexId v : rest_vertices) in_rest[v.index()] = 0;
+      work += region.size() << ports.size();
+      if (work > options.max_work) break;
+      std::vector<EdgeId> joining;
+      bool cancelled = false;
+      const double cost =
+          solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, joining, cancel, cancelled);
+      if (cancelled) return cancelled_error("seam refinement");
+      if (!(cost < removed_length - 1e-9 * (1.0 + removed_length))) continue;
+      std::vector<EdgeId> candidate = rest;
+      candidate.insert(candidate.end(), joining.begin(), joining.end());
+      std::sort(candidate.begin(), candidate.end());
+      candidate.erase(std::unique(candidate.begin(), candidate.end()), candidate.end());
+      // A subtree joined before its cut end leaves that end dangling.
+      candidate = detail::prune_dangling(mesh, std::move(candidate), terminals);
+      std::sort(candidate.begin(), candidate.end());
+      const double length = tree_length(mesh, edge_weights, candidate);
+      if (!(length < current_length - 1e-9 * (1.0 + current_length)) ||
+          !check_full_component_tree(mesh, candidate, terminals).ok()) {
+        continue;
+      }
+      current = std::move(candidate);
+      current_length = length;
+      improved = true;
+      ++st.improvements;
+      ++moves;
+      // The tree changed: list its pieces again and go on from the same position.
+      SEAM_TRY(topo, skeleton_topology(mesh, graph, current, terminals, edge_weights, cancel));
+      pieces = pieces_of(topo);
+      --index;
+    }
+    if (!improved || work > options.max_work) break;
+  }
+  st.length_after = current_length;
+  return current;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,66 @@
+// The seam pipeline's entry point: terminals, preprocessing to a disc, the chosen method,
+// and the result mapped back to the input mesh. (Paper §4.1 preprocessing + §4.2–4.4.)
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/mesh/halfedge_mesh.h"
+
+namespace seam::core {
+
+enum class SeamMethod {
+  kSkeleton,  ///< the paper: MST tour (Alg. 2), shrink (Alg. 3), straighten (§4.4)
+  kMst,       ///< Sheffer's baseline: union of shortest paths along the terminals' MST
+  kGreedy,    ///< Gu et al.'s baseline: grow from one terminal, nearest terminal first
+  kOptimal,   ///< exact minimum full-component Steiner tree (Dreyfus–Wagner), small k only
+};
+
+/// "skeleton", "mst", "greedy" or "optimal" (the API's names).
+const char* seam_method_name(SeamMethod method);
+
+struct SeamOptions {
+  SeamMethod method = SeamMethod::kSkeleton;
+  /// Skeleton only: shorten the straightened skeleton while keeping every extremum a leaf.
+  bool refine = true;
+  /// kOptimal refuses more terminals per component than this (kTooManyTerminals).
+  std::size_t optimal_max_terminals = 10;
+  /// Threads for the per-terminal Dijkstra runs (0 = hardware concurrency).
+  unsigned threads = 0;
+};
+
+struct SeamStats {
+  double preprocess_ms = 0;  ///< cut graph, boundary terminals
+  double paths_ms = 0;       ///< pairwise terminal shortest paths
+  double method_ms = 0;      ///< tour + skeleton + straighten, or the baseline
+  std::size_t terminals = 0;
+};
+
+/// A seam on a welded mesh. Vertex and edge ids are those of the mesh passed in.
+struct SeamResult {
+  std::vector<EdgeId> seam_edges;       ///< the seam proper (sorted, unique)
+  std::vector<EdgeId> cut_graph_edges;  ///< edges opening genus/extra boundaries (sorted)
+  std::vector<VertexId> extrema;        ///< the extrema used, as given (deduplicated)
+  std::vector<VertexId> terminals;      ///< extrema plus, per boundary terminal, the boundary vertex the seam reaches
+  std::vector<VertexId> steiner_points; ///< seam vertices of degree >= 3 that are not terminals
+  std::vector<std::vector<VertexId>> branches;  ///< seam paths between terminals/Steiner points
+  double length = 0;                    ///< Euclidean length of seam_edges
+  double cut_graph_length = 0;          ///< Euclidean length of cut_graph_edges
+  SeamStats stats;
+};
+
+/// Every edge to cut along: seam_edges and cut_graph_edges, sorted and without repeats.
+std::vector<EdgeId> all_cut_edges(const SeamResult& seam);
+
+/// Computes the seam on every connected component of `mesh`, each with the extrema that lie
+/// on it. Preconditions: `mesh` came from build_halfedge_mesh.
+/// Errors: kIndexOutOfRange (an extremum >= num_vertices or isolated), kTooManyTerminals
+/// (kOptimal above options.optimal_max_terminals), kTopologyViolation (a bug: the result
+/// does not cut every component into a disc), kCancelled.
+Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const VertexId> extrema,
+                                const SeamOptions& options = {}, const CancelToken& cancel = CancelToken::none());
+
+}  // namespace seam::core

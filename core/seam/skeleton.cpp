@@ -1,0 +1,130 @@
+#include "core/seam/skeleton.h"
+
+#include <chrono>
+#include <string>
+
+#include "core/seam/refine.h"
+#include "core/seam/skeleton_trace.h"
+#include "core/seam/straighten.h"
+
+namespace seam::core {
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+Status validate_inputs(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
+                       const TerminalPaths& paths) {
+  const std::size_t k = paths.size();
+  if (k < 2) return make_error(ErrorCode::kInvalidArgument, "the skeleton seam needs at least two terminals");
+  if (graph.num_vertices() != mesh.num_vertices()) {
+    return make_error(ErrorCode::kInvalidArgument, "the edge graph was not built from this mesh");
+  }
+  if (!edge_weights.empty() && edge_weights.size() != mesh.num_edges()) {
+    return make_error(ErrorCode::kInvalidArgument, "edge_weights must be empty or have one weight per edge");
+  }
+  if (paths.distance.size() != k * k || paths.path.size() != k * k) {
+    return make_error(ErrorCode::kInvalidArgument, "terminal paths are not a k x k table");
+  }
+  for (VertexId t : paths.terminals) {
+    if (!t.valid() || t.index() >= mesh.num_vertices()) {
+      return make_error(ErrorCode::kInvalidArgument, "terminal out of range", {t.value()});
+    }
+  }
+  for (std::size_t i = 0; i < k; ++i) {
+    for (std::size_t j = i + 1; j < k; ++j) {
+      if (paths.dist(i, j) == ShortestPathTree::kUnreached) {
+        return make_error(ErrorCode::kInvalidArgument,
+                          "terminals " + std::to_string(paths.terminals[i].value()) + " and " +
+                              std::to_string(paths.terminals[j].value()) + " are not connected",
+                          {paths.terminals[i].value(), paths.terminals[j].value()});
+      }
+    }
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                            std::span<const double> edge_weights, const TerminalPaths& paths,
+                                            const SkeletonOptions& options, SkeletonTrace* trace,
+                                            const CancelToken& cancel) {
+  if (auto st = validate_inputs(mesh, graph, edge_weights, paths); !st.ok()) return st.take_error();
+  SkeletonTrace local;
+  SkeletonTrace& tr = trace ? *trace : local;
+  tr = SkeletonTrace{};
+  SkeletonResult result;
+  const auto& terminals = paths.terminals;
+
+  if (paths.size() == 2) {
+    // §4.1: with two terminals the seam is their shortest path.
+    std::vector<EdgeId> edges;
+    for (HalfedgeId h : paths.path_between(0, 1)) edges.push_back(HalfedgeMesh::edge(h));
+    result.tree = make_steiner_tree(mesh, edges, terminals, edge_weights);
+    result.stats.length_before_refine = result.tree.length;
+    tr.straightened_length = result.tree.length;
+    return result;
+  }
+
+  // The paper's three steps. Any failure other than cancellation (a degenerate mesh where
+  // the tour or its skeleton cannot be made a full component) falls back to the star tree.
+  auto paper = [&]() -> Result<TreeTopology> {
+    auto start = std::chrono::steady_clock::now();
+    SEAM_TRY(tr.tour, build_tour(mesh, paths, &tr.tour_stats, cancel));
+    result.stats.tour_ms = ms_since(start);
+    result.stats.removals = tr.tour_stats.removals;
+    result.stats.rejected_removals = tr.tour_stats.rejected_removals;
+
+    start = std::chrono::steady_clock::now();
+    SEAM_TRY(auto shrunk, shrink_tour(mesh, tr.tour, cancel));
+    tr.raw_skeleton = std::move(shrunk.skeleton);
+    result.stats.shrink_ms = ms_since(start);
+
+    start = std::chrono::steady_clock::now();
+    SEAM_TRY(auto topo, skeleton_topology(mesh, graph, tr.raw_skeleton, terminals, edge_weights, cancel));
+    SEAM_TRY(auto straight, straighten_topology(mesh, graph, edge_weights, topo, &tr.straighten_stats, cancel));
+    result.stats.straighten_ms = ms_since(start);
+    if (auto st = check_full_component_tree(mesh, topology_edges(straight), terminals); !st.ok()) {
+      return st.take_error();
+    }
+    return straight;
+  };
+  auto straight = paper();
+  if (!straight.ok()) {
+    if (straight.error().code == ErrorCode::kCancelled) return straight.take_error();
+    tr.fallback = true;
+    tr.fallback_reason = straight.error().message;
+    result.stats.fallback = true;
+    const auto start = std::chrono::steady_clock::now();
+    SEAM_TRY(auto edges, star_tree(mesh, graph, terminals, cancel));
+    result.stats.straighten_ms += ms_since(start);
+    result.tree = make_steiner_tree(mesh, edges, terminals, edge_weights);
+    result.stats.length_before_refine = result.tree.length;
+    tr.straightened_length = result.tree.length;
+    return result;
+  }
+  tr.straightened = *straight;
+  tr.straightened_length = topology_length(mesh, edge_weights, tr.straightened);
+  result.stats.length_before_refine = tr.straightened_length;
+
+  std::vector<EdgeId> final_edges = topology_edges(*straight);
+  if (options.refine) {
+    const auto start = std::chrono::steady_clock::now();
+    SEAM_TRY(final_edges, refine_tree(mesh, graph, edge_weights, terminals, final_edges, {}, &tr.refine_stats, cancel));
+    result.stats.refine_ms = ms_since(start);
+    tr.refined_length = tr.refine_stats.length_after;
+  }
+  result.tree = make_steiner_tree(mesh, final_edges, terminals, edge_weights);
+  return result;
+}
+
+Result<SkeletonResult> skeleton_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                     std::span<const double> edge_weights, const TerminalPaths& paths,
+                                     const SkeletonOptions& options, const CancelToken& cancel) {
+  return skeleton_seam_traced(mesh, graph, edge_weights, paths, options, nullptr, cancel);
+}
+
+}  // namespace seam::core

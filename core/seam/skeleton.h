@@ -1,0 +1,50 @@
+// The paper's seam: MST tour (Algorithms 1-2, §4.2), shrinking it to a skeleton
+// (Algorithm 3, §4.3), straightening between Steiner points (§4.4).
+#pragma once
+
+#include <span>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/paths/geodesic.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/paths/steiner.h"
+
+namespace seam::core {
+
+struct SkeletonOptions {
+  /// After §4.4, shorten the tree while every terminal stays a leaf (relocate Steiner
+  /// points, re-straighten). On by default only where measured to help.
+  bool refine = true;
+};
+
+struct SkeletonStats {
+  double tour_ms = 0;
+  double shrink_ms = 0;
+  double straighten_ms = 0;
+  double refine_ms = 0;
+  double length_before_refine = 0;
+  std::size_t removals = 0;           ///< repeated visits removed by Algorithm 2
+  std::size_t rejected_removals = 0;  ///< removals refused because the tour would self-intersect
+  /// The paper's steps could not produce a full-component tree on this input (a degenerate
+  /// tour or skeleton) and the terminal-avoiding star tree was returned instead.
+  bool fallback = false;
+};
+
+struct SkeletonResult {
+  SteinerTree tree;
+  SkeletonStats stats;
+};
+
+/// Computes a full-component Steiner tree (every terminal a leaf) on `mesh`.
+/// Preconditions: `mesh` is one closed genus-0 component (boundaries already coned);
+/// `graph` was built from `mesh` with `edge_weights` (empty: Euclidean); `paths` are the
+/// pairwise shortest paths of the >= 2 terminals on that graph.
+/// Errors: kInvalidArgument (precondition violated), kCancelled.
+/// Complexity: O(k^2 log k) for the tour, O(E) for the shrink, O(s E log V) to straighten.
+Result<SkeletonResult> skeleton_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                     std::span<const double> edge_weights, const TerminalPaths& paths,
+                                     const SkeletonOptions& options = {},
+                                     const CancelToken& cancel = CancelToken::none());
+
+}  // namespace seam::core

@@ -1,0 +1,391 @@
+#include "core/seam/straighten.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+#include <utility>
+
+#include "core/paths/path_search.h"
+#include "core/seam/tree_util.h"
+
+namespace seam::core {
+
+using detail::prune_dangling;
+using detail::UnionFind;
+
+Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeId> edges,
+                                 std::span<const VertexId> terminals) {
+  if (edges.empty()) return make_error(ErrorCode::kTopologyViolation, "the seam tree has no edges");
+  const std::size_t nv = mesh.num_vertices();
+  std::vector<std::uint32_t> degree(nv, 0);
+  UnionFind uf(nv);
+  for (EdgeId e : edges) {
+    if (!e.valid() || e.index() >= mesh.num_edges()) {
+      return make_error(ErrorCode::kTopologyViolation, "seam edge out of range", {e.value()});
+    }
+    const HalfedgeId h = HalfedgeMesh::halfedge(e);
+    const VertexId a = mesh.tail(h);
+    const VertexId b = mesh.head(h);
+    ++degree[a.index()];
+    ++degree[b.index()];
+    if (!uf.unite(a.value(), b.value())) {
+      return make_error(ErrorCode::kTopologyViolation,
+                        "the seam has a cycle through edge " + std::to_string(e.value()) + " (or repeats it)",
+                        {e.value()});
+    }
+  }
+  std::vector<std::uint8_t> is_terminal(nv, 0);
+  for (VertexId t : terminals) {
+    if (!t.valid() || t.index() >= nv) {
+      return make_error(ErrorCode::kTopologyViolation, "terminal out of range", {t.value()});
+    }
+    is_terminal[t.index()] = 1;
+    if (degree[t.index()] != 1) {
+      return make_error(ErrorCode::kTopologyViolation,
+                        "terminal " + std::to_string(t.value()) + " has degree " +
+                            std::to_string(degree[t.index()]) + " in the seam, not 1 (a leaf)",
+                        {t.value()});
+    }
+  }
+  const std::uint32_t root = terminals.empty() ? mesh.tail(HalfedgeMesh::halfedge(edges[0])).value()
+                                               : uf.find(terminals[0].value());
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (degree[v] == 0) continue;
+    if (uf.find(static_cast<std::uint32_t>(v)) != uf.find(root)) {
+      return make_error(ErrorCode::kTopologyViolation,
+                        "the seam is not connected: vertex " + std::to_string(v) + " is apart",
+                        {static_cast<std::uint32_t>(v)});
+    }
+    if (degree[v] == 1 && !is_terminal[v]) {
+      return make_error(ErrorCode::kTopologyViolation,
+                        "vertex " + std::to_string(v) + " is a dangling leaf that is not a terminal",
+                        {static_cast<std::uint32_t>(v)});
+    }
+  }
+  return Ok{};
+}
+
+Result<std::vector<EdgeId>> star_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                      std::span<const VertexId> terminals, const CancelToken& cancel) {
+  const std::size_t nv = mesh.num_vertices();
+  const std::size_t k = terminals.size();
+  if (k < 2) return make_error(ErrorCode::kInvalidArgument, "a seam tree needs at least two terminals");
+  PathSearch search(graph);
+  for (VertexId t : terminals) search.block(t);
+  // Sum of terminal-avoiding distances from every terminal; the centre must be reached by all.
+  std::vector<double> sum(nv, 0.0);
+  std::vector<std::uint32_t> count(nv, 0);
+  for (VertexId t : terminals) {
+    search.reset();
+    search.add_source(t);
+    if (auto st = search.run({}, PathSearch::kUnreached, cancel); !st.ok()) return st.take_error();
+    for (VertexId v : search.settled()) {
+      sum[v.index()] += search.distance(v);
+      ++count[v.index()];
+    }
+  }
+  VertexId centre;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (count[v] != k || search.is_blocked(VertexId(v))) continue;
+    if (!centre.valid() || sum[v] < sum[centre.index()]) centre = VertexId(v);
+  }
+  if (!centre.valid()) {
+    if (k == 2 && mesh.find_halfedge(terminals[0], terminals[1]).valid()) {
+      return std::vector<EdgeId>{HalfedgeMesh::edge(mesh.find_halfedge(terminals[0], terminals[1]))};
+    }
+    return make_error(ErrorCode::kInvalidArgument,
+                      "no seam tree with every terminal a leaf exists: no vertex reaches every terminal "
+                      "without passing through another terminal");
+  }
+  search.reset();
+  search.add_source(centre);
+  if (auto st = search.run(terminals, PathSearch::kUnreached, cancel); !st.ok()) return st.take_error();
+  std::vector<EdgeId> edges;
+  for (VertexId t : terminals) {
+    for (HalfedgeId h : search.path_to(mesh, t)) edges.push_back(HalfedgeMesh::edge(h));
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return prune_dangling(mesh, std::move(edges), terminals);
+}
+
+namespace {
+
+double edge_weight(const HalfedgeMesh& mesh, std::span<const double> edge_weights, HalfedgeId h) {
+  const EdgeId e = HalfedgeMesh::edge(h);
+  return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
+}
+
+std::vector<HalfedgeId> reversed(const std::vector<HalfedgeId>& path) {
+  std::vector<HalfedgeId> r(path.rbegin(), path.rend());
+  for (auto& h : r) h = HalfedgeMesh::twin(h);
+  return r;
+}
+
+double course_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
+                     const std::vector<HalfedgeId>& path) {
+  double total = 0.0;
+  for (HalfedgeId h : path) total += edge_weight(mesh, edge_weights, h);
+  return total;
+}
+
+}  // namespace
+
+double topology_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
+                       const TreeTopology& topology) {
+  double total = 0.0;
+  for (EdgeId e : topology_edges(topology)) {
+    total += edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
+  }
+  return total;
+}
+
+Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                       std::span<const EdgeId> skeleton_edges,
+                                       std::span<const VertexId> terminals,
+                                       std::span<const double> edge_weights, const CancelToken& cancel) {
+  const std::size_t nv = mesh.num_vertices();
+  const std::size_t k = terminals.size();
+  std::vector<std::int32_t> terminal_of(nv, -1);
+  for (std::size_t i = 0; i < k; ++i) terminal_of[terminals[i].index()] = static_cast<std::int32_t>(i);
+
+  // A spanning forest of the skeleton, lightest edges first (a cycle loses its heaviest edge).
+  std::vector<EdgeId> sorted(skeleton_edges.begin(), skeleton_edges.end());
+  std::sort(sorted.begin(), sorted.end(), [&](EdgeId a, EdgeId b) {
+    const double wa = edge_weight(mesh, edge_weights, HalfedgeMesh::halfedge(a));
+    const double wb = edge_weight(mesh, edge_weights, HalfedgeMesh::halfedge(b));
+    return wa != wb ? wa < wb : a < b;
+  });
+  UnionFind uf(nv);
+  std::vector<EdgeId> forest;
+  for (EdgeId e : sorted) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(e);
+    if (uf.unite(mesh.tail(h).value(), mesh.head(h).value())) forest.push_back(e);
+  }
+  // Keep the pieces that touch a terminal, then join them (and terminals the skeleton
+  // missed) to the piece of terminal 0 by terminal-avoiding shortest paths.
+  std::vector<std::uint8_t> root_has_terminal(nv, 0);
+  for (VertexId t : terminals) root_has_terminal[uf.find(t.value())] = 1;
+  std::vector<EdgeId> kept;
+  for (EdgeId e : forest) {
+    if (root_has_terminal[uf.find(mesh.tail(HalfedgeMesh::halfedge(e)).value())]) kept.push_back(e);
+  }
+  PathSearch search(graph);
+  for (VertexId t : terminals) search.block(t);
+  for (int guard = 0; guard < static_cast<int>(k); ++guard) {
+    const std::uint32_t main_root = uf.find(terminals[0].value());
+    std::vector<VertexId> sources;
+    std::vector<VertexId> targets;
+    std::vector<std::uint8_t> seen(nv, 0);
+    auto consider = [&](VertexId v) {
+      if (seen[v.index()]) return;
+      seen[v.index()] = 1;
+      if (uf.find(v.value()) == main_root) {
+        // A terminal must stay a leaf, so a joining path may start at one only if it is
+        // alone in its piece (then it is the piece).
+        if (terminal_of[v.index()] < 0 || kept.empty()) sources.push_back(v);
+      } else {
+        targets.push_back(v);
+      }
+    };
+    for (EdgeId e : kept) {
+      consider(mesh.tail(HalfedgeMesh::halfedge(e)));
+      consider(mesh.head(HalfedgeMesh::halfedge(e)));
+    }
+    for (VertexId t : terminals) consider(t);
+    if (targets.empty()) break;
+    if (sources.empty()) sources.push_back(terminals[0]);
+    search.reset();
+    for (VertexId v : sources) search.add_source(v);
+    if (auto st = search.run_to_nearest(targets, cancel); !st.ok()) return st.take_error();
+    VertexId hit;
+    for (VertexId v : targets) {
+      if (search.reached(v) && (!hit.valid() || search.distance(v) < search.distance(hit))) hit = v;
+    }
+    if (!hit.valid()) {
+      return make_error(ErrorCode::kTopologyViolation, "the skeleton cannot be joined to every terminal");
+    }
+    for (HalfedgeId h : search.path_to(mesh, hit)) {
+      if (uf.unite(mesh.tail(h).value(), mesh.head(h).value())) kept.push_back(HalfedgeMesh::edge(h));
+    }
+  }
+  kept = prune_dangling(mesh, std::move(kept), terminals);
+
+  // Nodes: terminals first, then vertices of degree >= 3; branches are walked between them.
+  std::vector<std::vector<HalfedgeId>> out(nv);
+  for (EdgeId e : kept) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(e);
+    out[mesh.tail(h).index()].push_back(h);
+    out[mesh.head(h).index()].push_back(HalfedgeMesh::twin(h));
+  }
+  TreeTopology topo;
+  topo.num_terminals = k;
+  std::vector<std::int32_t> node_of(nv, -1);
+  for (std::size_t i = 0; i < k; ++i) {
+    topo.nodes.push_back(terminals[i]);
+    node_of[terminals[i].index()] = static_cast<std::int32_t>(i);
+  }
+  std::vector<VertexId> touched;
+  for (EdgeId e : kept) {
+    touched.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+    touched.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (VertexId v : touched) {
+    if (node_of[v.index()] < 0 && out[v.index()].size() >= 3) {
+      node_of[v.index()] = static_cast<std::int32_t>(topo.nodes.size());
+      topo.nodes.push_back(v);
+    }
+  }
+  std::vector<std::uint8_t> used(mesh.num_edges(), 0);
+  for (std::uint32_t a = 0; a < topo.nodes.size(); ++a) {
+    auto outgoing = out[topo.nodes[a].index()];
+    std::sort(outgoing.begin(), outgoing.end());
+    for (HalfedgeId start : outgoing) {
+      if (used[HalfedgeMesh::edge(start).index()]) continue;
+      std::vector<HalfedgeId> path;
+      HalfedgeId h = start;
+      while (true) {
+        used[HalfedgeMesh::edge(h).index()] = 1;
+        path.push_back(h);
+        const VertexId w = mesh.head(h);
+        if (node_of[w.index()] >= 0) break;
+        const auto& hs = out[w.index()];
+        SEAM_ASSERT(hs.size() == 2);
+        h = hs[0] == HalfedgeMesh::twin(h) ? hs[1] : hs[0];
+      }
+      topo.links.push_back({a, static_cast<std::uint32_t>(node_of[mesh.head(path.back()).index()])});
+      topo.paths.push_back(std::move(path));
+    }
+  }
+
+  // A terminal inside the tree hangs off a new Steiner node on its first non-terminal
+  // neighbour along one of its branches; its other branches are re-routed to that node.
+  for (std::uint32_t t = 0; t < k; ++t) {
+    std::vector<std::size_t> incident;
+    for (std::size_t l = 0; l < topo.links.size(); ++l) {
+      if (topo.links[l][0] == t || topo.links[l][1] == t) incident.push_back(l);
+    }
+    if (incident.size() <= 1) continue;
+    for (std::size_t l : incident) {
+      if (topo.links[l][1] == t) {
+        std::swap(topo.links[l][0], topo.links[l][1]);
+        topo.paths[l] = reversed(topo.paths[l]);
+      }
+    }
+    std::size_t chosen = incident.size();
+    for (std::size_t c = 0; c < incident.size(); ++c) {
+      const auto& path = topo.paths[incident[c]];
+      if (!path.empty() && terminal_of[mesh.head(path.front()).index()] < 0) {
+        chosen = c;
+        break;
+      }
+    }
+    if (chosen == incident.size()) {
+      return make_error(ErrorCode::kTopologyViolation,
+                        "terminal " + std::to_string(terminals[t].value()) +
+                            " lies between other terminals and cannot be made a leaf",
+                        {terminals[t].value()});
+    }
+    const std::size_t l0 = incident[chosen];
+    const VertexId u = mesh.head(topo.paths[l0].front());
+    std::uint32_t s;
+    if (node_of[u.index()] >= 0) {
+      s = static_cast<std::uint32_t>(node_of[u.index()]);
+    } else {
+      s = static_cast<std::uint32_t>(topo.nodes.size());
+      topo.nodes.push_back(u);
+      node_of[u.index()] = static_cast<std::int32_t>(s);
+      std::vector<HalfedgeId> rest(topo.paths[l0].begin() + 1, topo.paths[l0].end());
+      topo.links.push_back({s, topo.links[l0][1]});
+      topo.paths.push_back(std::move(rest));
+      topo.links[l0][1] = s;
+      topo.paths[l0].resize(1);
+    }
+    for (std::size_t l : incident) {
+      if (l == l0) continue;
+      topo.links[l][0] = s;
+      topo.paths[l].clear();  // no course yet: straighten_topology routes it
+    }
+  }
+  return topo;
+}
+
+Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                         std::span<const double> edge_weights, const TreeTopology& topology,
+                                         StraightenStats* stats, const CancelToken& cancel) {
+  StraightenStats local;
+  StraightenStats& st = stats ? *stats : local;
+  st = StraightenStats{};
+  const std::size_t nl = topology.links.size();
+  st.branches = nl;
+  // Shorter branches first; branches without a course first of all (they must be routed).
+  std::vector<std::size_t> order(nl);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::vector<double> len(nl);
+  for (std::size_t l = 0; l < nl; ++l) {
+    len[l] = topology.paths[l].empty() ? -1.0 : course_length(mesh, edge_weights, topology.paths[l]);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return len[a] < len[b]; });
+
+  PathSearch search(graph);
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    TreeTopology result = topology;
+    search.clear_marks();
+    for (VertexId v : topology.nodes) search.block(v);
+    std::size_t failed = nl;
+    st.kept = 0;
+    for (std::size_t l : order) {
+      if (cancel.is_cancelled()) return cancelled_error("skeleton straightening");
+      const VertexId a = topology.nodes[topology.links[l][0]];
+      const VertexId b = topology.nodes[topology.links[l][1]];
+      search.reset();
+      search.add_source(a);
+      const VertexId target[] = {b};
+      // With Euclidean weights the straight-line distance guides the search (A*), which
+      // visits a narrow band around the branch instead of a ball.
+      auto s = edge_weights.empty() ? search.run_astar(b, mesh.positions(), cancel)
+                                    : search.run(target, PathSearch::kUnreached, cancel);
+      if (!s.ok()) return s.take_error();
+      std::vector<HalfedgeId> path;
+      if (search.reached(b)) {
+        path = search.path_to(mesh, b);
+      } else {
+        // No disjoint shortest path: keep the old course if no placed branch took its vertices.
+        const auto& old = topology.paths[l];
+        bool free = !old.empty();
+        for (std::size_t i = 0; free && i + 1 < old.size(); ++i) free = !search.is_blocked(mesh.head(old[i]));
+        if (!free) {
+          failed = l;
+          break;
+        }
+        path = old;
+        ++st.kept;
+      }
+      for (std::size_t i = 0; i + 1 < path.size(); ++i) search.block(mesh.head(path[i]));
+      result.paths[l] = std::move(path);
+    }
+    if (failed == nl) {
+      search.clear_marks();
+      return result;
+    }
+    ++st.retries;
+    order.erase(std::find(order.begin(), order.end(), failed));
+    order.insert(order.begin(), failed);
+  }
+  return make_error(ErrorCode::kTopologyViolation,
+                    "no branch layout keeps the straightened seam a tree with every terminal a leaf");
+}
+
+std::vector<EdgeId> topology_edges(const TreeTopology& topology) {
+  std::vector<EdgeId> edges;
+  for (const auto& path : topology.paths) {
+    for (HalfedgeId h : path) edges.push_back(HalfedgeMesh::edge(h));
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,204 @@
+#include "core/uv/bff.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/uv/sparse_cholesky.h"
+
+namespace seam::core {
+
+namespace {
+
+std::size_t count_inverted(const DiscPatch& patch, const std::vector<Vec2>& uv) {
+  std::size_t count = 0;
+  for (const Triangle& t : patch.triangles) {
+    const Vec2 a = uv[t[1]] - uv[t[0]];
+    const Vec2 b = uv[t[2]] - uv[t[0]];
+    if (!(a.x() * b.y() - a.y() * b.x() > 0)) ++count;
+  }
+  return count;
+}
+
+// Dirichlet extension of the boundary values in `uv` with edge weights max(w_ij, floor),
+// floor a small fraction of the mean positive weight, so every weight is positive.
+Result<std::vector<Vec2>> extend_positive(const DiscPatch& patch, const std::vector<Eigen::Index>& interior_index,
+                                          std::vector<Vec2> uv, const CancelToken& cancel) {
+  const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(patch);
+  double positive_sum = 0;
+  std::size_t positive_count = 0;
+  for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
+      if (it.row() != c && -it.value() > 0) {
+        positive_sum += -it.value();
+        ++positive_count;
+      }
+    }
+  }
+  const double floor = positive_count > 0 ? 1e-3 * positive_sum / static_cast<double>(positive_count) : 1.0;
+  Eigen::Index num_interior = 0;
+  for (Eigen::Index i : interior_index) num_interior += i >= 0 ? 1 : 0;
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(num_interior);
+  Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(num_interior, 2);
+  for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
+      const Eigen::Index r = it.row();
+      if (r == c || interior_index[r] < 0) continue;
+      const double w = std::max(-it.value(), floor);
+      diagonal[interior_index[r]] += w;
+      if (interior_index[c] >= 0) {
+        entries.emplace_back(interior_index[r], interior_index[c], -w);
+      } else {
+        rhs.row(interior_index[r]) += w * uv[static_cast<std::size_t>(c)].transpose();
+      }
+    }
+  }
+  for (Eigen::Index i = 0; i < num_interior; ++i) entries.emplace_back(i, i, diagonal[i]);
+  Eigen::SparseMatrix<double> system(num_interior, num_interior);
+  system.setFromTriplets(entries.begin(), entries.end());
+  if (cancel.is_cancelled()) return cancelled_error("BFF extension");
+  SparseCholesky solver(system);
+  if (solver.info() != Eigen::Success) {
+    return make_error(ErrorCode::kSolverFailed, "BFF: the positive-weight extension failed to factor");
+  }
+  const Eigen::MatrixX2d xy = solver.solve(rhs);
+  if (!xy.allFinite()) return make_error(ErrorCode::kSolverFailed, "BFF: the positive-weight extension diverged");
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    if (interior_index[v] >= 0) uv[v] = Vec2(xy(interior_index[v], 0), xy(interior_index[v], 1));
+  }
+  return uv;
+}
+
+}  // namespace
+
+Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel) {
+  const std::size_t n = patch.num_vertices();
+  const std::size_t nb = patch.boundary.size();
+  constexpr double kPi = std::numbers::pi;
+
+  // Interior vertices get indices 0..nI-1 in the reduced system; boundary vertices keep their
+  // position in the counter-clockwise loop.
+  std::vector<Eigen::Index> interior_index(n, -1);
+  std::vector<Eigen::Index> boundary_index(n, -1);
+  for (std::size_t k = 0; k < nb; ++k) boundary_index[patch.boundary[k]] = static_cast<Eigen::Index>(k);
+  Eigen::Index num_interior = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (boundary_index[v] < 0) interior_index[v] = num_interior++;
+  }
+
+  // Angle sums give the curvatures: K = 2 pi - sum (interior), k = pi - sum (boundary).
+  std::vector<double> angle_sum(n, 0.0);
+  std::uint32_t poll = 0;
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    if (cancel.poll(poll)) return cancelled_error("BFF curvature");
+    const Vec3 a = corner_angles(patch, t);
+    for (int k = 0; k < 3; ++k) angle_sum[patch.triangles[t][k]] += a[k];
+  }
+
+  const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(patch);
+  std::vector<Eigen::Triplet<double>> ii;
+  std::vector<Eigen::Triplet<double>> ib;
+  ii.reserve(static_cast<std::size_t>(laplacian.nonZeros()));
+  for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
+      const Eigen::Index r = it.row();
+      if (interior_index[r] < 0) continue;
+      if (interior_index[c] >= 0) {
+        ii.emplace_back(interior_index[r], interior_index[c], it.value());
+      } else {
+        ib.emplace_back(interior_index[r], boundary_index[c], it.value());
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> a_ii(num_interior, num_interior);
+  a_ii.setFromTriplets(ii.begin(), ii.end());
+  Eigen::SparseMatrix<double> a_ib(num_interior, static_cast<Eigen::Index>(nb));
+  a_ib.setFromTriplets(ib.begin(), ib.end());
+  ii = {};
+  ib = {};
+  if (cancel.is_cancelled()) return cancelled_error("BFF assembly");
+
+  // A_II is the Dirichlet Laplacian of a connected disc: positive definite, so LL^T applies.
+  SparseCholesky solver;
+  Eigen::VectorXd u_interior;
+  if (num_interior > 0) {
+    solver.compute(a_ii);
+    if (solver.info() != Eigen::Success) {
+      return make_error(ErrorCode::kSolverFailed,
+                        "BFF: the Cholesky factorization of the interior cotan Laplacian failed");
+    }
+    if (cancel.is_cancelled()) return cancelled_error("BFF factorization");
+    Eigen::VectorXd minus_k(num_interior);
+    for (std::size_t v = 0; v < n; ++v) {
+      if (interior_index[v] >= 0) minus_k[interior_index[v]] = -(2 * kPi - angle_sum[v]);
+    }
+    u_interior = solver.solve(minus_k);
+    if (!u_interior.allFinite()) {
+      return make_error(ErrorCode::kSolverFailed, "BFF: the scale factor solve produced non-finite values");
+    }
+  }
+
+  // Target exterior angles k~_B = k_B + (A_BI u_I); A_BI = A_IB^T.
+  Eigen::VectorXd target_k(static_cast<Eigen::Index>(nb));
+  for (std::size_t k = 0; k < nb; ++k) target_k[static_cast<Eigen::Index>(k)] = kPi - angle_sum[patch.boundary[k]];
+  if (num_interior > 0) target_k += a_ib.transpose() * u_interior;
+
+  // Integrate the tangent: edge k runs from boundary[k] to boundary[k+1] and turns by
+  // k~ at boundary[k] relative to edge k-1.
+  Eigen::VectorXd length(static_cast<Eigen::Index>(nb));
+  Eigen::Matrix2Xd tangent(2, static_cast<Eigen::Index>(nb));
+  double phi = 0;
+  for (std::size_t k = 0; k < nb; ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    if (k > 0) phi += target_k[kk];
+    length[kk] = (patch.positions[patch.boundary[(k + 1) % nb]] - patch.positions[patch.boundary[k]]).norm();
+    tangent(0, kk) = std::cos(phi);
+    tangent(1, kk) = std::sin(phi);
+  }
+  // Close the polygon with the least change of lengths, sum (l*-l)^2 / l, subject to
+  // sum l* T = 0 (§4.1.2): l* = l - diag(l) T^T (T diag(l) T^T)^-1 T l.
+  const Eigen::Matrix2d gram = tangent * length.asDiagonal() * tangent.transpose();
+  const Eigen::Vector2d gap = tangent * length;
+  const Eigen::Vector2d lambda = gram.ldlt().solve(gap);
+  const Eigen::VectorXd closed_length =
+      length - length.asDiagonal() * (tangent.transpose() * lambda);
+  if (!closed_length.allFinite()) {
+    return make_error(ErrorCode::kSolverFailed, "BFF: closing the boundary curve failed");
+  }
+
+  std::vector<Vec2> uv(n, Vec2::Zero());
+  Eigen::VectorXd bx(static_cast<Eigen::Index>(nb));
+  Eigen::VectorXd by(static_cast<Eigen::Index>(nb));
+  Vec2 p(0, 0);
+  for (std::size_t k = 0; k < nb; ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    uv[patch.boundary[k]] = p;
+    bx[kk] = p.x();
+    by[kk] = p.y();
+    p += closed_length[kk] * tangent.col(kk);
+  }
+
+  if (num_interior > 0) {
+    if (cancel.is_cancelled()) return cancelled_error("BFF extension");
+    const Eigen::VectorXd x = solver.solve(-(a_ib * bx));
+    const Eigen::VectorXd y = solver.solve(-(a_ib * by));
+    if (!x.allFinite() || !y.allFinite()) {
+      return make_error(ErrorCode::kSolverFailed, "BFF: the harmonic extension produced non-finite values");
+    }
+    for (std::size_t v = 0; v < n; ++v) {
+      if (interior_index[v] >= 0) uv[v] = Vec2(x[interior_index[v]], y[interior_index[v]]);
+    }
+    if (count_inverted(patch, uv) > 0) {
+      // Cotan weights are negative across non-Delaunay edges, and then the discrete harmonic
+      // extension has no maximum principle and can fold. Retry with the weights clamped to
+      // be positive (a convex-combination map in the sense of Floater): one more
+      // factorization, paid only by meshes that need it; kept only if it folds less.
+      SEAM_TRY(std::vector<Vec2> positive, extend_positive(patch, interior_index, uv, cancel));
+      if (count_inverted(patch, positive) < count_inverted(patch, uv)) uv = std::move(positive);
+    }
+  }
+  return uv;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,95 @@
+// Flattening the cut disc(s) into the plane, and the distortion of the result.
+#pragma once
+
+#include <cstddef>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/mesh/halfedge_mesh.h"
+
+namespace seam::core {
+
+enum class UvMethod {
+  kLscm,  ///< least-squares conformal maps, free boundary (Lévy et al. 2002)
+  kBff,   ///< Boundary First Flattening, free boundary with u = 0 (Sawhney & Crane 2017)
+  kArap,  ///< as-rigid-as-possible local/global iterations started from BFF (Liu et al. 2008)
+  kSlim,  ///< symmetric Dirichlet by SLIM started from BFF (Rabinovich et al. 2017)
+};
+
+/// SLIM's proxy for the symmetric Dirichlet energy (see slim.h). Declared here, not in slim.h,
+/// so that this header stays free of Eigen's sparse module (httplib's <resolv.h> defines a
+/// `_res` macro that breaks it in the server's translation units).
+enum class SlimProxy {
+  kIsotropic,    ///< per-triangle weight (w1^2 + w2^2)/2: one n x n system for u and v
+  kAnisotropic,  ///< the paper's 2x2 weight matrix: one 2n x 2n system, fewer iterations
+};
+
+/// "lscm", "bff", "arap" or "slim".
+const char* uv_method_name(UvMethod method);
+
+struct UvOptions {
+  /// SLIM from BFF: the lowest area and angle distortion measured, no flips, and no ARAP
+  /// "locking" (bench/uv_bench.cpp seam table, docs/uv.md).
+  UvMethod method = UvMethod::kSlim;
+  /// ARAP only: local/global iterations, 0..1000 (0 returns the BFF start).
+  int arap_iterations = 10;
+  /// SLIM only: upper bound on its reweighted global steps, 0..1000 (0 returns the BFF start);
+  /// it stops earlier once a step lowers the energy by less than 0.1%.
+  int slim_iterations = 12;
+  /// SLIM only: its proxy (see slim.h); the isotropic one is several times faster per step.
+  SlimProxy slim_proxy = SlimProxy::kIsotropic;
+  /// Gap between packed charts, as a fraction of the square root of the total chart area.
+  /// 0..1. Unused with a single chart.
+  double chart_gap = 0.02;
+};
+
+/// Distortion of a 3D->2D map, per triangle from the singular values s1 >= s2 of its
+/// Jacobian after one global scale normalisation (total unsigned 2D area = total 3D area).
+/// Every mean is weighted by 3D triangle area. Per-triangle terms that are infinite (a UV
+/// triangle of zero area) are capped at kDistortionCap so the numbers stay finite in JSON.
+struct Distortion {
+  double area = 1;            ///< area-weighted mean of max(s1 s2, 1/(s1 s2))
+  double area_geometric = 1;  ///< exp(area-weighted mean of |log(s1 s2)|)
+  double angle = 1;           ///< area-weighted mean of s1/s2
+  double stretch_l2 = 1;      ///< Sander et al. 2001's L2 stretch of the texture->surface map:
+                              ///< sqrt(mean of (1/s1^2 + 1/s2^2)/2)
+  double stretch_linf = 1;    ///< Sander et al.'s L-infinity stretch: max over triangles of 1/s2
+  std::size_t flipped = 0;    ///< triangles with non-positive signed UV area
+};
+inline constexpr double kDistortionCap = 1e12;
+
+struct UvResult {
+  VertexData<Vec2> uv;  ///< per vertex of the disc mesh, fitted into [0,1]^2 (aspect kept);
+                        ///< values are exactly representable as float32 (already rounded).
+                        ///< Isolated vertices get (0, 0).
+  Distortion distortion;  ///< measured on the stored (float32-rounded) UVs
+  /// Triangles positive in double precision that became degenerate or flipped by rounding to
+  /// float32. Each gets a one-ulp nudge of a corner when that fixes it without harming its
+  /// neighbours; float32_unrepaired counts those still non-positive (they are also in
+  /// distortion.flipped).
+  std::size_t float32_degenerate = 0;
+  std::size_t float32_unrepaired = 0;
+  std::size_t charts = 0;  ///< connected components flattened
+  UvMethod method_used = UvMethod::kBff;  ///< differs from the request only as kArap documents
+  double solve_ms = 0;     ///< flattening time (all charts), without packing and measuring
+};
+
+/// Flattens every component of `disc_mesh` (each must be a topological disc) with
+/// options.method, scales each chart so its UV area equals its 3D area, packs several charts
+/// side by side (shelf packing, no overlap), fits the whole into [0,1]^2 keeping the aspect,
+/// rounds to float32, and measures the distortion of what is stored.
+/// kArap starts from BFF; for a chart where ARAP ends with more flipped triangles than its
+/// BFF start, that chart keeps the BFF map (method_used reports kBff if any chart did).
+/// kSlim starts from BFF (or from Tutte's embedding where BFF folds) and never adds a fold.
+/// Errors: kInvalidArgument (options out of range), kEmptyMesh (no faces),
+/// kTopologyViolation (a component is not a disc), kSolverFailed, kCancelled.
+/// Complexity: one or two sparse Cholesky factorizations per chart (see lscm.h, bff.h, arap.h),
+/// plus one per SLIM step (slim.h).
+Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& options = {},
+                              const CancelToken& cancel = CancelToken::none());
+
+/// Measures the distortion of a given per-vertex UV map (see Distortion). uv.size() must be
+/// mesh.num_vertices() (SEAM_ASSERT). O(F).
+Distortion measure_distortion(const HalfedgeMesh& mesh, const VertexData<Vec2>& uv);
+
+}  // namespace seam::core

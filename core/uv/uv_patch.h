@@ -1,0 +1,86 @@
+// One disc-shaped component of a mesh in compact local indexing, and the cotan operators the
+// flattening methods (LSCM, BFF, ARAP) share.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
+
+namespace seam::core {
+
+/// A topological disc with local vertex indices 0..n-1.
+struct DiscPatch {
+  std::vector<VertexId> to_mesh;       ///< local vertex -> vertex of the source mesh
+  std::vector<Vec3> positions;         ///< per local vertex
+  std::vector<Triangle> triangles;     ///< local indices, counter-clockwise seen from outside
+  std::vector<FaceId> to_mesh_face;    ///< local triangle -> face of the source mesh
+  std::vector<std::uint32_t> boundary; ///< the one boundary loop, counter-clockwise (interior on the left)
+
+  std::size_t num_vertices() const { return positions.size(); }
+};
+
+/// Splits `mesh` into one DiscPatch per connected component (in the component order of
+/// `topology`). Errors: kTopologyViolation if a component is not a disc (Euler characteristic
+/// 1 and exactly one boundary loop); the message names the component and one of its faces.
+/// O(V + F).
+Result<std::vector<DiscPatch>> extract_disc_patches(const HalfedgeMesh& mesh, const Topology& topology);
+
+/// The three corner angles of triangle t (at corners 0, 1, 2), in radians.
+Vec3 corner_angles(const DiscPatch& patch, std::size_t t);
+
+/// Cotangents of the three corner angles, clamped to [-kCotanClamp, kCotanClamp] so a sliver
+/// cannot make the operators numerically singular.
+Vec3 corner_cotans(const DiscPatch& patch, std::size_t t);
+inline constexpr double kCotanClamp = 1e5;
+
+/// The positive semi-definite cotan Laplacian (Dirichlet energy 1/2 x^T L x):
+/// L_ij = -(cot a_ij + cot b_ij)/2, L_ii = -sum_j L_ij. n x n, O(F).
+Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch);
+
+/// Planar coordinates of triangle t's corners in an isometric frame of its plane
+/// (corner 0 at the origin, corner 1 on the +x axis, corner 2 with y > 0).
+std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t);
+
+}  // namespace seam::core
+
+namespace seam::core {
+
+/// The largest t such that no triangle with positive signed area at t = 0 reaches zero area on
+/// [0, t) when every vertex moves by t * direction[v] (infinity if none ever does; triangles
+/// already folded are ignored). Smith & Schaefer 2015's injective step bound. O(F).
+double max_injective_step(const DiscPatch& patch, const std::vector<Vec2>& uv, const std::vector<Vec2>& direction);
+
+/// Triangles of `patch` whose signed UV area is not positive.
+std::size_t count_flipped(const DiscPatch& patch, const std::vector<Vec2>& uv);
+
+/// Local repair of isolated folds: moves vertices of flipped triangles (and, in later rounds,
+/// their neighbours) to the uniform average of their neighbours, or halfway there, whenever
+/// that lowers the number of flipped triangles around the vertex and creates none. A vertex
+/// inside the kernel of its one-ring polygon ends up unfolded; this is the untangling step of
+/// mesh smoothing, applied only where the map folded. Returns the flipped count afterwards
+/// (never more than before). O(rounds x affected area).
+std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds = 10);
+
+}  // namespace seam::core
+
+namespace seam::core {
+
+/// Counts of the float32 storage step (see round_to_float32).
+struct Float32Rounding {
+  std::size_t degenerate = 0;  ///< positive in double, non-positive after rounding, before nudging
+  std::size_t remaining = 0;   ///< of those, still non-positive after nudging
+};
+
+/// Rounds `uv` (already fitted into [0,1]^2) to float32 in place. A triangle that was positive
+/// in double but rounds to zero or negative area gets its corners nudged to neighbouring float
+/// grid points (one ulp in x and/or y, staying in [0,1]) when that makes it positive without
+/// making any other triangle around the moved vertex non-positive. O(V + F).
+Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv);
+
+}  // namespace seam::core
