@@ -11,8 +11,11 @@ std::string_view code_name(ApiErrorCode code) {
     case ApiErrorCode::kMalformedAsset: return "malformed_asset";
     case ApiErrorCode::kNotFound: return "not_found";
     case ApiErrorCode::kMethodNotAllowed: return "method_not_allowed";
+    case ApiErrorCode::kRequestTimeout: return "request_timeout";
+    case ApiErrorCode::kLengthRequired: return "length_required";
     case ApiErrorCode::kPayloadTooLarge: return "payload_too_large";
     case ApiErrorCode::kUnsupportedMediaType: return "unsupported_media_type";
+    case ApiErrorCode::kHeadersTooLarge: return "headers_too_large";
     case ApiErrorCode::kNoTrianglePrimitive: return "no_triangle_primitive";
     case ApiErrorCode::kUnsupportedPrimitiveMode: return "unsupported_primitive_mode";
     case ApiErrorCode::kExternalUri: return "external_uri";
@@ -26,9 +29,11 @@ std::string_view code_name(ApiErrorCode code) {
     case ApiErrorCode::kNonManifoldVertex: return "non_manifold_vertex";
     case ApiErrorCode::kInconsistentOrientation: return "inconsistent_orientation";
     case ApiErrorCode::kTooManyTerminals: return "too_many_terminals";
+    case ApiErrorCode::kTooManyExtrema: return "too_many_extrema";
     case ApiErrorCode::kTopologyViolation: return "topology_violation";
     case ApiErrorCode::kSolverFailed: return "solver_failed";
     case ApiErrorCode::kQueueFull: return "queue_full";
+    case ApiErrorCode::kOverloaded: return "overloaded";
     case ApiErrorCode::kTimeout: return "timeout";
     case ApiErrorCode::kInternal: return "internal";
   }
@@ -42,8 +47,11 @@ int http_status(ApiErrorCode code) {
     case ApiErrorCode::kMalformedAsset: return 400;
     case ApiErrorCode::kNotFound: return 404;
     case ApiErrorCode::kMethodNotAllowed: return 405;
+    case ApiErrorCode::kRequestTimeout: return 408;
+    case ApiErrorCode::kLengthRequired: return 411;
     case ApiErrorCode::kPayloadTooLarge: return 413;
     case ApiErrorCode::kUnsupportedMediaType: return 415;
+    case ApiErrorCode::kHeadersTooLarge: return 431;
     case ApiErrorCode::kNoTrianglePrimitive:
     case ApiErrorCode::kUnsupportedPrimitiveMode:
     case ApiErrorCode::kExternalUri:
@@ -56,8 +64,10 @@ int http_status(ApiErrorCode code) {
     case ApiErrorCode::kNonManifoldEdge:
     case ApiErrorCode::kNonManifoldVertex:
     case ApiErrorCode::kInconsistentOrientation:
-    case ApiErrorCode::kTooManyTerminals: return 422;
-    case ApiErrorCode::kQueueFull: return 503;
+    case ApiErrorCode::kTooManyTerminals:
+    case ApiErrorCode::kTooManyExtrema: return 422;
+    case ApiErrorCode::kQueueFull:
+    case ApiErrorCode::kOverloaded: return 503;
     case ApiErrorCode::kTimeout: return 504;
     // A seam that fails its own disc check or a solver that fails is our bug, not the
     // caller's: 500, logged with the request id.

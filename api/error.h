@@ -19,9 +19,12 @@ enum class ApiErrorCode {
   // 404 / 405: routing.
   kNotFound,
   kMethodNotAllowed,
-  // 413 / 415.
+  // 408 / 411 / 413 / 415 / 431: HTTP framing, enforced before the handler reads the body.
+  kRequestTimeout,            // the request did not arrive whole within --request-timeout-s
+  kLengthRequired,            // a POST with neither Content-Length nor chunked framing
   kPayloadTooLarge,
   kUnsupportedMediaType,
+  kHeadersTooLarge,           // more than 100 header fields or 64 KiB of request head
   // 422: a well-formed asset that cannot be processed.
   kNoTrianglePrimitive,       // mesh/primitive index missing, or not triangles
   kUnsupportedPrimitiveMode,  // points or lines
@@ -36,10 +39,12 @@ enum class ApiErrorCode {
   kNonManifoldVertex,
   kInconsistentOrientation,
   kTooManyTerminals,
+  kTooManyExtrema,            // more extrema than --max-extrema
   kTopologyViolation,
   kSolverFailed,
   // 503 / 504 / 500.
   kQueueFull,
+  kOverloaded,                // the bytes-in-flight budget is spent; retry later
   kTimeout,
   kInternal,
 };
