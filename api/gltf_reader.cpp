@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "api/draco_io.h"
+#include "api/json_limits.h"
 
 namespace seam::api {
 namespace {
@@ -19,7 +20,6 @@ constexpr std::uint32_t kChunkBin = 0x004E4942;
 // it (and counts below 2^32) makes all later sums and products overflow-free in 64 bits.
 constexpr std::uint64_t kMaxDeclared = std::uint64_t{1} << 53;
 constexpr std::uint64_t kMaxCount = std::uint64_t{1} << 32;
-constexpr int kMaxJsonDepth = 64;
 
 ApiError malformed(std::string message) { return make_api_error(ApiErrorCode::kMalformedAsset, std::move(message)); }
 
@@ -27,26 +27,6 @@ std::uint32_t read_u32(const char* p) {
   std::uint32_t v;
   std::memcpy(&v, p, 4);
   return v;  // GLB is little-endian; so are all the targets we build for.
-}
-
-// nlohmann's parser is iterative but destroying a deeply nested value recurses; refuse
-// absurd nesting before parsing.
-bool nesting_ok(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-      continue;
-    }
-    if (c == '"') in_string = true;
-    else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) return false;
-    } else if (c == ']' || c == '}') --depth;
-  }
-  return true;
 }
 
 // An optional non-negative integer member. Absent -> nullopt; present but not an integer
@@ -345,10 +325,11 @@ double component_as_double(const std::uint8_t* p, int component_type, bool norma
 
 ApiResult<GltfDocument> parse_json_document(std::string_view text, const ReadLimits& limits) {
   if (text.size() > limits.max_json_bytes) return malformed("the glTF JSON is larger than the limit");
-  if (!nesting_ok(text)) return malformed("the glTF JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+  // The client's JSON: depth is checked while parsing (the writer dumps this document later).
+  auto parsed = parse_json_limited(text);
+  if (!parsed.ok()) return malformed("the glTF JSON: " + parsed.error().message);
   GltfDocument doc;
-  doc.json = json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
-  if (doc.json.is_discarded()) return malformed("the glTF JSON does not parse");
+  doc.json = std::move(parsed).value();
   if (!doc.json.is_object()) return malformed("the glTF JSON is not an object");
   const auto asset = doc.json.find("asset");
   if (asset == doc.json.end() || !asset->is_object()) return malformed("the glTF has no 'asset' object");

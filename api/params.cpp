@@ -3,6 +3,7 @@
 #include <limits>
 #include <string>
 
+#include "api/json_limits.h"
 #include "api/pipeline.h"
 
 namespace seam::api {
@@ -19,8 +20,8 @@ ApiResult<std::uint32_t> vertex_index(const json& v, const std::string& name) {
     const auto u = v.get<std::uint64_t>();
     if (u < std::numeric_limits<std::uint32_t>::max()) return static_cast<std::uint32_t>(u);
   }
-  return invalid(name, name + ": vertex indices must be non-negative integers below 2^32-1, got " +
-                           v.dump(-1, ' ', false, json::error_handler_t::replace).substr(0, 60));
+  // Described, never dumped: a value nested 60,000 deep would overflow the stack in dump().
+  return invalid(name, name + ": vertex indices must be non-negative integers below 2^32-1, got " + describe_json(v));
 }
 
 ApiResult<std::vector<std::uint32_t>> index_list(const json& v, const std::string& name) {
@@ -101,7 +102,7 @@ ApiResult<ExtremaSpec> extrema_from_json(const json& v) {
         SEAM_TRY(const std::uint32_t n, vertex_index(*it, "extrema.max_count"));
         spec.auto_options.max_count = n;
       } else {
-        return invalid("extrema." + key, "extrema: unknown key \"" + key +
+        return invalid("extrema." + key.substr(0, 60), "extrema: unknown key \"" + key.substr(0, 60) +
                                              "\" (known: auto, include, exclude, min_protrusion, max_count)");
       }
     }
@@ -169,7 +170,7 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       }
       out.weld_epsilon = v.get<double>();
     } else {
-      return invalid(key, "unknown parameter \"" + key.substr(0, 60) +
+      return invalid(key.substr(0, 60), "unknown parameter \"" + key.substr(0, 60) +
                               "\" (known: extrema, mesh, primitive, method, uv, output, draco, refine, weld_epsilon)");
     }
   }

@@ -3,6 +3,8 @@
 #include <array>
 #include <cctype>
 
+#include "api/json_limits.h"
+
 namespace seam::server {
 namespace {
 
@@ -98,10 +100,15 @@ std::optional<api::AssetKind> asset_kind_for_media_type(std::string_view media) 
 }
 
 api::ApiResult<SeamRequest> parse_json_request(std::string_view body) {
-  auto json = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
-  if (json.is_discarded()) {
-    return make_api_error(ApiErrorCode::kMalformedRequest, "the request body is not valid JSON");
+  // Depth is checked while parsing, so the whole body (mesh.gltf included) is at most 64
+  // levels deep before anything below walks or re-serialises it.
+  auto parsed = api::parse_json_limited(body);
+  if (!parsed.ok()) {
+    api::ApiError error = parsed.take_error();
+    error.message = "the request body: " + error.message;
+    return error;
   }
+  nlohmann::json json = std::move(parsed).value();
   if (!json.is_object()) {
     return make_api_error(ApiErrorCode::kMalformedRequest,
                           "the request body must be a JSON object: {\"mesh\": {\"glb_base64\": ...}, ...parameters}");
@@ -129,7 +136,7 @@ api::ApiResult<SeamRequest> parse_json_request(std::string_view body) {
     if (!gltf->is_object()) {
       return make_api_error(ApiErrorCode::kMalformedRequest, "mesh.gltf must be a glTF JSON object");
     }
-    out.asset = gltf->dump();
+    out.asset = gltf->dump();  // safe: parse_json_limited bounded its depth
     out.kind = api::AssetKind::kGltfJson;
   }
   json.erase(mesh_it);
@@ -139,11 +146,16 @@ api::ApiResult<SeamRequest> parse_json_request(std::string_view body) {
 
 api::ApiResult<api::SeamParams> parse_params_part(std::string_view text) {
   if (trim(text).empty()) return api::params_from_json(nlohmann::json::object());
-  auto json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (json.is_discarded() || !json.is_object()) {
+  auto parsed = api::parse_json_limited(text);
+  if (!parsed.ok()) {
+    api::ApiError error = parsed.take_error();
+    error.message = "the params part: " + error.message;
+    return error;
+  }
+  if (!parsed->is_object()) {
     return make_api_error(ApiErrorCode::kMalformedRequest, "the params part must be a JSON object, e.g. {\"extrema\":[1,2,3]}");
   }
-  return api::params_from_json(json);
+  return api::params_from_json(*parsed);
 }
 
 api::ApiResult<api::SeamParams> parse_query_params(const std::vector<std::pair<std::string, std::string>>& query) {

@@ -37,11 +37,13 @@ std::string encode_base64(std::string_view bytes);
 std::optional<api::AssetKind> asset_kind_for_media_type(std::string_view media);
 
 /// Form 2: `{"mesh": {"glb_base64": "..."} | {"gltf": {...}}, ...parameters}`.
-/// Errors: kMalformedRequest (bad JSON, no mesh, bad base64), whatever params_from_json returns.
+/// Errors: kMalformedRequest (bad JSON; JSON nested deeper than api::kMaxJsonDepth anywhere,
+/// checked while parsing; no mesh; bad base64), whatever params_from_json returns.
 api::ApiResult<SeamRequest> parse_json_request(std::string_view body);
 
 /// Form 1's `params` part (may be empty: defaults). Errors as params_from_json, or
-/// kMalformedRequest when it is not a JSON object.
+/// kMalformedRequest when it is not valid JSON, nests deeper than api::kMaxJsonDepth, or is
+/// not a JSON object.
 api::ApiResult<api::SeamParams> parse_params_part(std::string_view text);
 
 /// Query parameters (`?extrema=1,2&method=mst`); an empty list gives the defaults.

@@ -392,3 +392,53 @@ TEST_CASE("hostile inputs get their exact error code") {
                           }));
   }
 }
+
+namespace {
+
+// A GLB whose JSON chunk is `text` verbatim (encode_glb would have to dump a json value,
+// which is what a hostile depth must never reach).
+std::string glb_with_json_text(std::string text) {
+  while (text.size() % 4 != 0) text += ' ';
+  std::string out("glTF", 4);
+  auto put = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+  put(2);
+  put(static_cast<std::uint32_t>(12 + 8 + text.size()));
+  put(static_cast<std::uint32_t>(text.size()));
+  put(0x4E4F534A);  // "JSON"
+  return out + text;
+}
+
+std::string gltf_with_extras(const std::string& extras) {
+  return R"({"asset":{"version":"2.0"},"extras":)" + extras + "}";
+}
+
+}  // namespace
+
+TEST_CASE("glTF JSON nested 100,000 deep is a malformed asset in .gltf and GLB; depth 64 is read") {
+  const std::string deep_arrays = std::string(100'000, '[') + std::string(100'000, ']');
+  std::string deep_objects;
+  for (int i = 0; i < 100'000; ++i) deep_objects += "{\"a\":";
+  deep_objects += "1" + std::string(100'000, '}');
+  for (const std::string& json_text : {deep_arrays, gltf_with_extras(deep_arrays), gltf_with_extras(deep_objects)}) {
+    for (const auto& [bytes, kind] : {std::pair{json_text, AssetKind::kGltfJson},
+                                      std::pair{glb_with_json_text(json_text), AssetKind::kGlb},
+                                      std::pair{glb_with_json_text(json_text), AssetKind::kAuto}}) {
+      auto doc = parse_asset(bytes, kind);
+      REQUIRE(!doc.ok());
+      CHECK(doc.error().code == ApiErrorCode::kMalformedAsset);
+      CHECK(http_status(doc.error().code) == 400);
+      CHECK(doc.error().message.find("JSON nested deeper than 64 levels at byte ") != std::string::npos);
+    }
+  }
+  // The document object is level 1 and "extras" holds 63 more: depth 64, read (and safe to
+  // dump, which the writer does).
+  const std::string at_64 = gltf_with_extras(std::string(63, '[') + std::string(63, ']'));
+  for (const auto& [bytes, kind] :
+       {std::pair{at_64, AssetKind::kGltfJson}, std::pair{glb_with_json_text(at_64), AssetKind::kGlb}}) {
+    auto doc = parse_asset(bytes, kind);
+    REQUIRE_MESSAGE(doc.ok(), (doc.ok() ? "" : doc.error().message));
+    CHECK(doc->json.dump().size() == at_64.size());
+  }
+  const std::string at_65 = gltf_with_extras(std::string(64, '[') + std::string(64, ']'));
+  CHECK(parse_asset(at_65, AssetKind::kGltfJson).error().code == ApiErrorCode::kMalformedAsset);
+}

@@ -83,3 +83,49 @@ TEST_CASE("the JSON request form") {
   CHECK(parse_params_part("  ").ok());
   CHECK(parse_params_part("[]").error().code == ApiErrorCode::kMalformedRequest);
 }
+
+TEST_CASE("JSON nested 100,000 deep is a 400 in every request entry point, and depth 64 is accepted") {
+  const std::string deep = std::string(100'000, '[') + std::string(100'000, ']');
+  std::string deep_objects;
+  for (int i = 0; i < 100'000; ++i) deep_objects += "{\"a\":";
+  deep_objects += "1" + std::string(100'000, '}');
+  const std::string b64 = R"("glb_base64":")" + encode_base64("glTF....") + "\"";
+  struct Case {
+    const char* where;
+    std::string text;
+    bool params_part;
+  };
+  for (const auto& c : {Case{"params part, top level", deep, true},
+                        Case{"params part, objects", deep_objects, true},
+                        Case{"params part, in extrema", R"({"extrema":)" + deep + "}", true},
+                        Case{"params part, in extrema.include", R"({"extrema":{"include":)" + deep + "}}", true},
+                        Case{"JSON body, top level", deep, false},
+                        Case{"JSON body, objects", deep_objects, false},
+                        Case{"JSON body, in extrema", "{\"mesh\":{" + b64 + R"(},"extrema":)" + deep + "}", false},
+                        Case{"JSON body, in mesh.gltf",
+                             R"({"mesh":{"gltf":{"asset":{"version":"2.0"},"extras":)" + deep + "}}}", false}}) {
+    CAPTURE(c.where);
+    auto error = c.params_part ? parse_params_part(c.text).error() : parse_json_request(c.text).error();
+    CHECK(error.code == ApiErrorCode::kMalformedRequest);
+    CHECK(seam::api::http_status(error.code) == 400);
+    CHECK(error.message.find("JSON nested deeper than 64 levels at byte ") != std::string::npos);
+  }
+
+  // Depth exactly 64 in all (the body's object is level 1), refused at 65.
+  auto body_of_depth = [](int depth) {
+    // {"mesh":{"gltf":{"asset":{...},"extras": <depth - 3 levels of arrays>}}}
+    const std::size_t n = static_cast<std::size_t>(depth - 3);
+    return R"({"mesh":{"gltf":{"asset":{"version":"2.0"},"extras":)" + std::string(n, '[') + std::string(n, ']') +
+           "}}}";
+  };
+  auto at_64 = parse_json_request(body_of_depth(64));
+  REQUIRE_MESSAGE(at_64.ok(), (at_64.ok() ? "" : at_64.error().message));
+  CHECK(at_64->kind == AssetKind::kGltfJson);
+  CHECK(nlohmann::json::parse(at_64->asset)["asset"]["version"] == "2.0");
+  CHECK(parse_json_request(body_of_depth(65)).error().code == ApiErrorCode::kMalformedRequest);
+  // A params part of depth 64 parses; what it holds is then a parameter error, not a crash.
+  const std::string params_64 = R"({"extrema":)" + std::string(63, '[') + std::string(63, ']') + "}";
+  CHECK(parse_params_part(params_64).error().code == ApiErrorCode::kInvalidParameter);
+  const std::string params_65 = R"({"extrema":)" + std::string(64, '[') + std::string(64, ']') + "}";
+  CHECK(parse_params_part(params_65).error().code == ApiErrorCode::kMalformedRequest);
+}
