@@ -32,6 +32,7 @@ std::string_view code_name(ApiErrorCode code) {
     case ApiErrorCode::kTooManyExtrema: return "too_many_extrema";
     case ApiErrorCode::kTopologyViolation: return "topology_violation";
     case ApiErrorCode::kSolverFailed: return "solver_failed";
+    case ApiErrorCode::kClientClosed: return "client_closed";
     case ApiErrorCode::kQueueFull: return "queue_full";
     case ApiErrorCode::kOverloaded: return "overloaded";
     case ApiErrorCode::kTimeout: return "timeout";
@@ -66,6 +67,7 @@ int http_status(ApiErrorCode code) {
     case ApiErrorCode::kInconsistentOrientation:
     case ApiErrorCode::kTooManyTerminals:
     case ApiErrorCode::kTooManyExtrema: return 422;
+    case ApiErrorCode::kClientClosed: return 499;  // nginx's convention; only the log sees it
     case ApiErrorCode::kQueueFull:
     case ApiErrorCode::kOverloaded: return 503;
     case ApiErrorCode::kTimeout: return 504;

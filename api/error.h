@@ -42,6 +42,8 @@ enum class ApiErrorCode {
   kTooManyExtrema,            // more extrema than --max-extrema
   kTopologyViolation,
   kSolverFailed,
+  // 499: the client closed the connection before its answer (logged, never received).
+  kClientClosed,
   // 503 / 504 / 500.
   kQueueFull,
   kOverloaded,                // the bytes-in-flight budget is spent; retry later

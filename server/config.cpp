@@ -62,9 +62,12 @@ const std::vector<OptionSpec>& option_table() {
       {"queue", "SEAMD_QUEUE", "jobs allowed to wait for a worker; beyond that 503 + Retry-After",
        ranged<std::size_t>(0, 100000, [](ServerConfig& c, std::size_t v) { c.queue = v; }),
        [](const ServerConfig& c) { return std::to_string(c.queue); }},
-      {"http-threads", "SEAMD_HTTP_THREADS", "connection threads (0 = max(64, 2*(workers+queue)))",
+      {"http-threads", "SEAMD_HTTP_THREADS", "connection threads (0 = max(256, 2*(workers+queue)))",
        ranged<unsigned>(0, 4096, [](ServerConfig& c, unsigned v) { c.http_threads = v; }),
        [](const ServerConfig& c) { return std::to_string(c.http_threads); }},
+      {"backlog", "SEAMD_BACKLOG", "listen backlog for connection bursts (clamped to net.core.somaxconn)",
+       ranged<int>(16, 65535, [](ServerConfig& c, int v) { c.backlog = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.backlog); }},
       {"max-body-bytes", "SEAMD_MAX_BODY_BYTES", "request body limit in bytes; larger is 413",
        ranged<std::size_t>(1024, 1ll << 40, [](ServerConfig& c, std::size_t v) { c.max_body_bytes = v; }),
        [](const ServerConfig& c) { return std::to_string(c.max_body_bytes); }},
@@ -75,6 +78,21 @@ const std::vector<OptionSpec>& option_table() {
       {"max-faces", "SEAMD_MAX_FACES", "largest primitive in faces; larger is 422",
        ranged<std::size_t>(1, 1ll << 32, [](ServerConfig& c, std::size_t v) { c.max_faces = v; }),
        [](const ServerConfig& c) { return std::to_string(c.max_faces); }},
+      {"max-extrema", "SEAMD_MAX_EXTREMA", "most extrema one request may name or detect; more is 422",
+       ranged<std::size_t>(2, 100000, [](ServerConfig& c, std::size_t v) { c.max_extrema = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.max_extrema); }},
+      {"threads-per-request", "SEAMD_THREADS_PER_REQUEST", "helper threads one request may use (0 = cores / workers)",
+       ranged<unsigned>(0, 1024, [](ServerConfig& c, unsigned v) { c.threads_per_request = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.threads_per_request); }},
+      {"max-inflight-bytes", "SEAMD_MAX_INFLIGHT_BYTES", "bytes held by requests in flight (4 x body each); then 503",
+       ranged<std::uint64_t>(1 << 20, 1ll << 50, [](ServerConfig& c, std::uint64_t v) { c.max_inflight_bytes = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.max_inflight_bytes); }},
+      {"request-timeout-s", "SEAMD_REQUEST_TIMEOUT_S", "the request head must arrive within this; then 408",
+       ranged<int>(1, 3600, [](ServerConfig& c, int v) { c.request_timeout_s = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.request_timeout_s); }},
+      {"min-body-rate", "SEAMD_MIN_BODY_RATE", "bytes/s a body must average after that; slower is 408",
+       ranged<std::size_t>(1, 1ll << 34, [](ServerConfig& c, std::size_t v) { c.min_body_rate = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.min_body_rate); }},
       {"log-level", "SEAMD_LOG_LEVEL", "trace|debug|info|warn|error|critical|off",
        [](ServerConfig& c, std::string_view t) -> std::string {
          static const std::string_view kLevels[] = {"trace", "debug", "info", "warn",
@@ -86,7 +104,7 @@ const std::vector<OptionSpec>& option_table() {
          return {};
        },
        [](const ServerConfig& c) { return c.log_level; }},
-      {"read-timeout-s", "SEAMD_READ_TIMEOUT_S", "socket read timeout in seconds",
+      {"read-timeout-s", "SEAMD_READ_TIMEOUT_S", "one socket read without progress, in seconds; then 408",
        ranged<int>(1, 3600, [](ServerConfig& c, int v) { c.read_timeout_s = v; }),
        [](const ServerConfig& c) { return std::to_string(c.read_timeout_s); }},
       {"write-timeout-s", "SEAMD_WRITE_TIMEOUT_S", "socket write timeout in seconds",
@@ -183,10 +201,16 @@ unsigned effective_workers(const ServerConfig& config) {
 
 unsigned effective_http_threads(const ServerConfig& config) {
   if (config.http_threads > 0) return config.http_threads;
-  // Each keep-alive connection holds a thread while it waits for its seam, so the pool must
-  // cover every admitted job plus connections that will be refused with 503 or ask /metrics.
+  // Each connection holds a thread while its request arrives and while it waits for its seam,
+  // so the pool covers every admitted job plus slow or refused clients and the probes: 80
+  // clients trickling a byte a second must leave /healthz answered (docs/http.md).
   const auto needed = 2 * (effective_workers(config) + static_cast<unsigned>(config.queue));
-  return std::max(64u, needed);
+  return std::max(256u, needed);
+}
+
+unsigned effective_threads_per_request(const ServerConfig& config) {
+  if (config.threads_per_request > 0) return config.threads_per_request;
+  return std::max(1u, std::max(1u, std::thread::hardware_concurrency()) / effective_workers(config));
 }
 
 }  // namespace seam::server

@@ -19,13 +19,21 @@ struct ServerConfig {
   int port = 8080;               ///< 0 = an ephemeral port (tests); see Server::port()
   unsigned workers = 0;          ///< compute threads; 0 = std::thread::hardware_concurrency()
   std::size_t queue = 16;        ///< seam jobs waiting beyond the busy workers; then 503
-  unsigned http_threads = 0;     ///< connection threads; 0 = max(64, 2 * (workers + queue))
+  unsigned http_threads = 0;     ///< connection threads; 0 = max(256, 2 * (workers + queue))
+  int backlog = 1024;            ///< listen backlog (connection bursts), clamped to somaxconn
   std::size_t max_body_bytes = 256u << 20;          ///< larger bodies are a 413
   std::chrono::milliseconds time_budget{60'000};    ///< per request, queueing included; then 504
   std::size_t max_faces = 5'000'000;                ///< larger primitives are a 422
+  std::size_t max_extrema = 256;                    ///< longer extrema lists are a 422
+  /// Helper threads one request may use (terminal paths, extrema); 0 = cores / workers, so
+  /// that workers x threads never oversubscribes the cores.
+  unsigned threads_per_request = 0;
+  std::uint64_t max_inflight_bytes = 4ull << 30;    ///< bodies x 4 of all requests; then 503
+  int request_timeout_s = 30;      ///< the head must arrive within this (then 408)
+  std::size_t min_body_rate = 64u << 10;  ///< bytes/s a body must average beyond that
   std::string log_level = "info";  ///< trace|debug|info|warn|error|critical|off
-  int read_timeout_s = 30;         ///< socket read timeout (headers and body)
-  int write_timeout_s = 30;        ///< socket write timeout
+  int read_timeout_s = 30;         ///< one socket read making no progress; then 408
+  int write_timeout_s = 30;        ///< one socket write making no progress; then the connection closes
   int keep_alive_timeout_s = 5;    ///< idle keep-alive connections are closed after this
   int drain_timeout_s = 30;        ///< on SIGTERM, in-flight work older than this is cancelled
   int retry_after_s = 1;           ///< the Retry-After of a 503
@@ -54,5 +62,7 @@ std::string help_text();
 unsigned effective_workers(const ServerConfig& config);
 /// The connection thread count after resolving 0.
 unsigned effective_http_threads(const ServerConfig& config);
+/// The helper threads per request after resolving 0: max(1, cores / workers).
+unsigned effective_threads_per_request(const ServerConfig& config);
 
 }  // namespace seam::server

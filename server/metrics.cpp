@@ -67,6 +67,12 @@ std::string Metrics::render(const GaugeSnapshot& g) const {
      << "# HELP seamd_in_flight_requests Requests being handled now.\n"
      << "# TYPE seamd_in_flight_requests gauge\n"
      << "seamd_in_flight_requests " << g.in_flight << "\n"
+     << "# HELP seamd_inflight_bytes Bytes held by requests in flight (4 x body each), for admission.\n"
+     << "# TYPE seamd_inflight_bytes gauge\n"
+     << "seamd_inflight_bytes " << g.inflight_bytes << "\n"
+     << "# HELP seamd_inflight_bytes_limit Requests beyond this many bytes in flight get 503.\n"
+     << "# TYPE seamd_inflight_bytes_limit gauge\n"
+     << "seamd_inflight_bytes_limit " << g.inflight_bytes_limit << "\n"
      << "# HELP seamd_draining 1 after SIGTERM while in-flight work finishes.\n"
      << "# TYPE seamd_draining gauge\n"
      << "seamd_draining " << (g.draining ? 1 : 0) << "\n";

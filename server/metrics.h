@@ -18,6 +18,8 @@ struct GaugeSnapshot {
   std::size_t workers = 0;
   std::size_t queue_capacity = 0;
   std::size_t in_flight = 0;  ///< requests being handled now (all routes)
+  std::uint64_t inflight_bytes = 0;        ///< bytes held by requests in flight (front budget)
+  std::uint64_t inflight_bytes_limit = 0;  ///< --max-inflight-bytes
   bool draining = false;
 };
 

@@ -15,7 +15,7 @@
 #include "server/request.h"
 #include "server/worker_pool.h"
 
-#include <httplib.h>
+#include "server/http_front.h"
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -52,6 +52,20 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
+FrontConfig front_config(const ServerConfig& c) {
+  return FrontConfig{.head = {.max_body_bytes = c.max_body_bytes},
+                     .request_timeout = std::chrono::seconds(c.request_timeout_s),
+                     .min_body_rate = c.min_body_rate,
+                     .idle_timeout = std::chrono::seconds(c.keep_alive_timeout_s),
+                     .io_timeout = std::chrono::seconds(std::max(c.read_timeout_s, c.write_timeout_s)),
+                     .backlog = c.backlog,
+                     .max_inflight_bytes = c.max_inflight_bytes};
+}
+
+// How often a waiting handler looks at its client: a client that went away cancels its job
+// within this (plus the core's cancellation poll interval).
+constexpr auto kPeerPollInterval = std::chrono::milliseconds(100);
+
 }  // namespace
 
 SeamJob pipeline_job() {
@@ -72,6 +86,7 @@ struct JobState {
   std::promise<api::ApiResult<api::PipelineOutput>> promise;
   Clock::time_point started{};
   Clock::time_point finished{};
+  std::atomic<bool> drained{false};  ///< cancelled by the drain on SIGTERM, not the budget
 };
 
 // What the log line and the metrics need to know about one request beyond req/res.
@@ -87,6 +102,7 @@ struct Server::Impl {
       : config(std::move(c)),
         job(j ? std::move(j) : pipeline_job()),
         pool(effective_workers(config), config.queue),
+        http(front_config(config), front_hooks()),
         rng(std::random_device{}()) {
     auto sink = std::make_shared<spdlog::sinks::stdout_sink_mt>();
     // Not registered globally: several servers (tests) can coexist with their own levels.
@@ -101,7 +117,7 @@ struct Server::Impl {
   SeamJob job;
   WorkerPool pool;
   Metrics metrics;
-  httplib::Server http;
+  FrontServer http;
   std::shared_ptr<spdlog::logger> log;
   int bound_port = -1;
 
@@ -156,6 +172,56 @@ struct Server::Impl {
     }
   }
 
+  // ---- the connection front's hooks -----------------------------------------------------
+
+  FrontServer::Hooks front_hooks() {
+    return FrontServer::Hooks{
+        .admit = [this](const RequestHead& head) { return admit(head); },
+        .refused = [this](const RequestHead* head, Refusal& r, const std::string& remote) { log_refusal(head, r, remote); }};
+  }
+
+  // POST /seam takes four media types; anything else is refused before its body is read (a
+  // form-urlencoded body would otherwise be parsed by the library).
+  std::optional<Refusal> admit(const RequestHead& head) const {
+    if (head.method != "POST" || head.path != "/seam") return std::nullopt;
+    const auto media = media_type(head.field("Content-Type").value_or(""));
+    if (media == "multipart/form-data" || media == "application/json" || asset_kind_for_media_type(media)) return std::nullopt;
+    return Refusal{unsupported_media(media), {}};
+  }
+
+  static ApiError unsupported_media(const std::string& media) {
+    return make_api_error(ApiErrorCode::kUnsupportedMediaType,
+                          "unsupported Content-Type '" + media.substr(0, 100) +
+                              "': use multipart/form-data, application/json, model/gltf-binary, model/gltf+json or "
+                              "application/octet-stream",
+                          {{"content_type", media.substr(0, 100)}});
+  }
+
+  // A request the front answered itself: the same request id, access log line and metrics as
+  // any other.
+  void log_refusal(const RequestHead* head, Refusal& r, const std::string& remote) {
+    const auto given = head ? std::string(head->field(kRequestIdHeader).value_or("")) : std::string();
+    const auto id = acceptable_request_id(given) ? given : new_request_id();
+    r.headers.emplace_back(kRequestIdHeader, id);
+    if (r.error.code == ApiErrorCode::kMethodNotAllowed && r.error.details.contains("allow")) {
+      r.headers.emplace_back("Allow", r.error.details["allow"].get<std::string>());
+    }
+    const int status = api::http_status(r.error.code);
+    const auto route = head ? route_label(head->path) : std::string("other");
+    metrics.record(route, status, 0.0, 0, 0);
+    if (!log->should_log(spdlog::level::info)) return;
+    nlohmann::ordered_json line{{"ts", std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()},
+                                {"level", "info"},
+                                {"request_id", id},
+                                {"method", head ? head->method : std::string()},
+                                {"route", route},
+                                {"status", status},
+                                {"error_code", std::string(api::code_name(r.error.code))},
+                                {"refused_by", "front"},
+                                {"remote", remote}};
+    log->info(line.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
+  }
+
   // ---- POST /seam ----------------------------------------------------------------------
 
   api::ApiResult<SeamRequest> decode(const httplib::Request& req) {
@@ -190,14 +256,7 @@ struct Server::Impl {
       return parse_json_request(req.body);
     }
     const auto kind = asset_kind_for_media_type(media);
-    if (!kind) {
-      return make_api_error(
-          ApiErrorCode::kUnsupportedMediaType,
-          "unsupported Content-Type '" + media +
-              "': use multipart/form-data, application/json, model/gltf-binary, model/gltf+json or "
-              "application/octet-stream",
-          {{"content_type", media}});
-    }
+    if (!kind) return unsupported_media(media);
     SeamRequest out;
     out.kind = *kind;
     out.asset = req.body;
@@ -271,13 +330,18 @@ struct Server::Impl {
                                        {{"workers", pool.workers()}, {"queue", pool.queue_capacity()}}));
     }
 
-    // A job that polls its token returns kTimeout right at the deadline; the grace covers the
-    // last poll interval. A job that does not poll is abandoned: the client still gets its 504
-    // and the worker is released as soon as the job notices the cancelled token.
-    if (future.wait_until(deadline + std::chrono::milliseconds(250)) != std::future_status::ready) {
-      state->token.cancel();
-      with_record(req, [&](RequestRecord& r) { r.queue_ms = ms_between(enqueued, Clock::now()); });
-      return send_error(req, res, budget_error());
+    switch (wait_for_job(req, future, deadline)) {
+      case JobWait::kReady: break;
+      case JobWait::kClientGone:
+        state->token.cancel();
+        http.abandon(req);
+        with_record(req, [&](RequestRecord& r) { r.queue_ms = ms_between(enqueued, Clock::now()); });
+        return send_error(req, res, make_api_error(ApiErrorCode::kClientClosed,
+                                                   "the client closed the connection; its job was cancelled"));
+      case JobWait::kTimedOut:
+        state->token.cancel();
+        with_record(req, [&](RequestRecord& r) { r.queue_ms = ms_between(enqueued, Clock::now()); });
+        return send_error(req, res, state->drained ? drain_error() : budget_error());
     }
     auto result = future.get();
     with_record(req, [&](RequestRecord& r) {
@@ -286,7 +350,7 @@ struct Server::Impl {
     });
     if (!result.ok()) {
       auto error = result.take_error();
-      if (error.code == ApiErrorCode::kTimeout) error = budget_error();
+      if (error.code == ApiErrorCode::kTimeout) error = state->drained ? drain_error() : budget_error();
       return send_error(req, res, error);
     }
     auto& output = result.value();
@@ -298,6 +362,31 @@ struct Server::Impl {
       res.status = 200;
       res.set_content(output.body.dump(), kJsonType);
     }
+  }
+
+  enum class JobWait { kReady, kClientGone, kTimedOut };
+
+  // Waits for the job while watching the client: nobody is left to answer once it closed its
+  // side, so its job is cancelled at once instead of holding a worker until the budget ends.
+  // A job that polls its token returns kTimeout right at the deadline; the grace covers the
+  // last poll interval. A job that does not poll is abandoned: the client still gets its 504
+  // and the worker is released as soon as the job notices the cancelled token.
+  JobWait wait_for_job(const httplib::Request& req, std::future<api::ApiResult<api::PipelineOutput>>& future,
+                       Clock::time_point deadline) {
+    const auto give_up = deadline + std::chrono::milliseconds(250);
+    for (;;) {
+      const auto until = std::min(give_up, Clock::now() + kPeerPollInterval);
+      if (future.wait_until(until) == std::future_status::ready) return JobWait::kReady;
+      if (http.peer_closed(req)) return JobWait::kClientGone;
+      if (Clock::now() >= give_up) return JobWait::kTimedOut;
+    }
+  }
+
+  ApiError drain_error() const {
+    return make_api_error(ApiErrorCode::kTimeout,
+                          "the server is shutting down and the job was still running when the drain of " +
+                              std::to_string(config.drain_timeout_s) + " s ended (--drain-timeout-s); retry on another replica",
+                          {{"drain_timeout_s", config.drain_timeout_s}});
   }
 
   ApiError budget_error() const {
@@ -316,6 +405,8 @@ struct Server::Impl {
                          .workers = pool.workers(),
                          .queue_capacity = pool.queue_capacity(),
                          .in_flight = in_flight.load(),
+                         .inflight_bytes = http.budget().held(),
+                         .inflight_bytes_limit = http.budget().capacity(),
                          .draining = draining.load()};
   }
 
@@ -347,6 +438,11 @@ struct Server::Impl {
     http.Put(path, handler);
     http.Patch(path, handler);
     http.Delete(path, handler);
+    // OPTIONS answers what the route takes (RFC 9110 §9.3.7), with no body.
+    http.Options(path, [allow](const httplib::Request&, httplib::Response& res) {
+      res.status = 204;
+      res.set_header("Allow", allow + ", OPTIONS");
+    });
   }
 
   void configure_http() {
@@ -373,6 +469,13 @@ struct Server::Impl {
                                                                         httplib::Response& res) {
       ensure_request_id(req, res);
       if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+      if (auto failure = http.body_failure(req); failure) {
+        // The front stopped the body (over the limit, too slow, over the in-flight budget).
+        for (const auto& [name, value] : failure->headers) res.set_header(name, value);
+        res.set_header("Connection", "close");
+        send_error(req, res, failure->error);
+        return httplib::Server::HandlerResponse::Handled;
+      }
       ApiError error;
       switch (res.status) {
         case 404:
@@ -477,7 +580,10 @@ struct Server::Impl {
       const auto limit = std::chrono::seconds(config.drain_timeout_s);
       if (!jobs_done.wait_for(lock, limit, [this] { return live_jobs.empty(); })) {
         log->warn(nlohmann::json{{"event", "drain_timeout"}, {"cancelled_jobs", live_jobs.size()}}.dump());
-        for (auto* s : live_jobs) s->token.cancel();
+        for (auto* s : live_jobs) {
+          s->drained = true;
+          s->token.cancel();
+        }
       }
     });
   }
@@ -493,7 +599,7 @@ Server::~Server() {
 
 api::ApiResult<int> Server::bind() {
   auto& c = impl_->config;
-  const int port = c.port == 0 ? impl_->http.bind_to_any_port(c.bind) : (impl_->http.bind_to_port(c.bind, c.port) ? c.port : -1);
+  const int port = impl_->http.bind_with_backlog(c.bind, c.port);
   if (port < 0) {
     return make_api_error(ApiErrorCode::kInternal,
                           "cannot listen on " + c.bind + ":" + std::to_string(c.port) + " (address in use or invalid)");
@@ -517,6 +623,7 @@ void Server::run() {
                                   {"workers", impl_->pool.workers()},
                                   {"queue", impl_->pool.queue_capacity()},
                                   {"http_threads", effective_http_threads(impl_->config)},
+                                  {"backlog", impl_->http.effective_backlog()},
                                   {"version", SEAM_VERSION},
                                   {"try", try_line()}}
                        .dump());
@@ -543,6 +650,7 @@ void Server::shutdown() {
   if (impl_->draining.exchange(true)) return;
   impl_->log->info(nlohmann::json{{"event", "draining"}, {"in_flight", impl_->in_flight.load()}}.dump());
   impl_->start_drain_watchdog();
+  impl_->http.begin_drain(Clock::now() + std::chrono::seconds(impl_->config.drain_timeout_s));
   impl_->http.stop();
 }
 

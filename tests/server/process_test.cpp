@@ -7,85 +7,22 @@
 #include "api/gltf_writer.h"
 #include "test_data.h"
 
-#include <netinet/in.h>
-#include <signal.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <chrono>
 #include <future>
-#include <string>
-#include <thread>
+
+#include "seamd_process.h"
 
 #include <httplib.h>
 
+using namespace seam::test_process;
+
 namespace {
 
-// A port that was free a moment ago (the kernel does not hand it out again at once).
-int free_port() {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  REQUIRE(fd >= 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  REQUIRE(bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
-  socklen_t len = sizeof addr;
-  REQUIRE(getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) == 0);
-  close(fd);
-  return ntohs(addr.sin_port);
-}
-
-// Waits up to `limit` for the child; returns its wait status, or -1 if it is still running.
-int wait_for_exit(pid_t pid, std::chrono::milliseconds limit) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < deadline) {
-    int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) return status;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return -1;
-}
-
-// Starts seamd on a free loopback port and waits until /healthz answers.
-struct Seamd {
-  pid_t pid = -1;
-  int port = 0;
-};
-
-Seamd start_seamd(const char* workers) {
-  Seamd s;
-  s.port = free_port();
-  const std::string port_arg = std::to_string(s.port);
-  s.pid = fork();
-  REQUIRE(s.pid >= 0);
-  if (s.pid == 0) {
-    execl(SEAMD_BINARY, SEAMD_BINARY, "--bind", "127.0.0.1", "--port", port_arg.c_str(), "--workers", workers,
-          "--log-level", "off", static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  httplib::Client client("127.0.0.1", s.port);
-  client.set_connection_timeout(std::chrono::milliseconds(200));
-  bool up = false;
-  for (int i = 0; i < 250 && !up; ++i) {  // up to ~10 s under sanitizers
-    auto res = client.Get("/healthz");
-    up = res && res->status == 200;
-    if (!up) std::this_thread::sleep_for(std::chrono::milliseconds(40));
-  }
-  CHECK(up);
-  return s;
-}
-
-// Signals seamd and returns its wait status (-1 and a failure if it does not exit in 60 s).
-int stop_seamd(const Seamd& s, int sig) {
-  REQUIRE(kill(s.pid, sig) == 0);
-  const int status = wait_for_exit(s.pid, std::chrono::seconds(60));
-  if (status == -1) {
-    kill(s.pid, SIGKILL);
-    waitpid(s.pid, nullptr, 0);
-    FAIL("seamd did not exit within 60 s of the signal");
-  }
-  return status;
+// Signals seamd and returns its wait status (a failure if it does not exit in 60 s).
+int stop_seamd(Seamd& s, int sig) {
+  REQUIRE(kill(s.pid(), sig) == 0);
+  const auto status = s.wait_exit(std::chrono::seconds(60));
+  REQUIRE_MESSAGE(status.has_value(), "seamd did not exit within 60 s of the signal");
+  return *status;
 }
 
 }  // namespace
@@ -93,7 +30,7 @@ int stop_seamd(const Seamd& s, int sig) {
 TEST_CASE("seamd as a process: SIGTERM and SIGINT drain it and it exits 0") {
   for (int sig : {SIGTERM, SIGINT}) {
     CAPTURE(sig);
-    const Seamd seamd = start_seamd("1");
+    Seamd seamd({"--workers", "1"});
     const int status = stop_seamd(seamd, sig);
     CHECK(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 0);
@@ -104,9 +41,9 @@ TEST_CASE("seamd as a process: a request in flight at SIGTERM is answered, then 
   // The camel with automatic extrema, skeleton seam and SLIM UVs: a few hundred ms of work.
   auto glb = seam::api::write_plain_glb(seam::test_data::load_cgal("camel"));
   REQUIRE(glb.ok());
-  const Seamd seamd = start_seamd("1");
+  Seamd seamd({"--workers", "1"});
   auto answer = std::async(std::launch::async, [&] {
-    httplib::Client client("127.0.0.1", seamd.port);
+    httplib::Client client("127.0.0.1", seamd.port());
     client.set_read_timeout(std::chrono::seconds(60));
     auto res = client.Post("/seam", *glb, "model/gltf-binary");
     return res ? res->status : -1;
@@ -118,4 +55,26 @@ TEST_CASE("seamd as a process: a request in flight at SIGTERM is answered, then 
   CHECK(answer.get() == 200);
   CHECK(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 0);
+}
+
+TEST_CASE("seamd as a process: slow clients at SIGTERM do not outlast the drain timeout") {
+  Seamd seamd({"--workers", "1", "--drain-timeout-s", "2", "--request-timeout-s", "60"});
+  // One client trickling its head, one idle keep-alive connection, one that sent nothing.
+  RawConnection trickling(seamd.port()), idle(seamd.port()), silent(seamd.port());
+  REQUIRE(trickling.send("GET /healthz HTTP/1.1\r\nHo"));
+  REQUIRE(idle.send("GET /healthz HTTP/1.1\r\nHost: t\r\n\r\n"));
+  CHECK(status_of(idle.read_until("\r\n\r\n", std::chrono::seconds(5))) == 200);
+  std::atomic<bool> stop{false};
+  std::thread trickle([&] {
+    while (!stop && trickling.send("x")) std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  });
+  const auto signalled = Clock::now();
+  const int status = stop_seamd(seamd, SIGTERM);
+  const double seconds = std::chrono::duration<double>(Clock::now() - signalled).count();
+  stop = true;
+  trickle.join();
+  MESSAGE("exit " << seconds << " s after SIGTERM with a trickling, an idle and a silent client");
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(seconds < 2.0 + 3.0);  // the drain timeout plus the poll slices and process exit
 }

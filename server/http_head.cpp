@@ -1,0 +1,215 @@
+#include "server/http_head.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+
+namespace seam::server {
+namespace {
+
+using api::ApiErrorCode;
+using api::make_api_error;
+
+bool iequals(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+         });
+}
+
+// RFC 9110 §5.6.2 tchar.
+bool is_tchar(char c) {
+  const auto u = static_cast<unsigned char>(c);
+  if (std::isalnum(u)) return true;
+  constexpr std::string_view kExtra = "!#$%&'*+-.^_`|~";
+  return kExtra.find(c) != std::string_view::npos;
+}
+
+bool is_token(std::string_view s) { return !s.empty() && std::all_of(s.begin(), s.end(), is_tchar); }
+
+// Field values: visible ASCII, obs-text (>= 0x80), space and tab; no other control bytes.
+bool is_field_value(std::string_view s) {
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return u == '\t' || u >= 0x20 ? u != 0x7f : false;
+  });
+}
+
+std::string_view trim_ows(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+api::ApiError malformed(std::string message) {
+  return make_api_error(ApiErrorCode::kMalformedRequest, "malformed HTTP request: " + std::move(message));
+}
+
+api::ApiResult<core::Ok> parse_request_line(std::string_view line, RequestHead& out) {
+  const auto sp1 = line.find(' ');
+  const auto sp2 = sp1 == std::string_view::npos ? sp1 : line.find(' ', sp1 + 1);
+  if (sp2 == std::string_view::npos || line.find(' ', sp2 + 1) != std::string_view::npos) {
+    return malformed("the request line must be 'METHOD SP target SP HTTP/1.1'");
+  }
+  const auto method = line.substr(0, sp1);
+  const auto target = line.substr(sp1 + 1, sp2 - sp1 - 1);
+  const auto version = line.substr(sp2 + 1);
+  if (!is_token(method)) return malformed("the method is not a token");
+  if (target.empty() || !std::all_of(target.begin(), target.end(), [](char c) {
+        const auto u = static_cast<unsigned char>(c);
+        return u > 0x20 && u != 0x7f;
+      })) {
+    return malformed("the request target is empty or holds spaces or control bytes");
+  }
+  if (version == "HTTP/1.1") {
+    out.minor_version = 1;
+  } else if (version == "HTTP/1.0") {
+    out.minor_version = 0;
+  } else {
+    return malformed("only HTTP/1.0 and HTTP/1.1 are served");
+  }
+  if (method == "TRACE" || method == "CONNECT") {
+    return make_api_error(ApiErrorCode::kMethodNotAllowed,
+                          std::string(method) + " is not served; the service takes GET, HEAD, POST and OPTIONS",
+                          {{"allow", "GET, HEAD, POST, OPTIONS"}});
+  }
+  out.method = method;
+  out.target = target;
+  out.path = target.substr(0, target.find('?'));
+  return core::Ok{};
+}
+
+api::ApiResult<std::uint64_t> parse_content_length(std::string_view value) {
+  std::uint64_t n = 0;
+  if (value.empty() || value.size() > 19 || !std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return malformed("Content-Length must be a decimal number");
+  }
+  std::from_chars(value.data(), value.data() + value.size(), n);
+  return n;
+}
+
+// Framing fields (RFC 9112 §6): the body's length is known before any of it is read.
+api::ApiResult<core::Ok> check_framing(RequestHead& out, const HeadLimits& limits) {
+  bool has_te = false;
+  for (const auto& [name, value] : out.fields) {
+    if (iequals(name, "Content-Length")) {
+      SEAM_TRY(const auto n, parse_content_length(value));
+      if (out.content_length && *out.content_length != n) return malformed("Content-Length is given twice with different values");
+      out.content_length = n;
+    } else if (iequals(name, "Transfer-Encoding")) {
+      if (has_te || !iequals(trim_ows(value), "chunked")) {
+        return malformed("Transfer-Encoding must be exactly 'chunked' (no other coding is accepted)");
+      }
+      has_te = true;
+    } else if (iequals(name, "Content-Encoding") && !iequals(trim_ows(value), "identity")) {
+      return make_api_error(ApiErrorCode::kUnsupportedMediaType,
+                            "Content-Encoding '" + std::string(value.substr(0, 40)) +
+                                "' is not accepted: send the body uncompressed (GLB and Draco are compressed already)",
+                            {{"content_encoding", std::string(value.substr(0, 40))}});
+    }
+  }
+  if (has_te && out.content_length) return malformed("Transfer-Encoding and Content-Length together (request smuggling)");
+  if (has_te && out.minor_version == 0) return malformed("chunked framing needs HTTP/1.1");
+  out.chunked = has_te;
+  if (out.content_length && *out.content_length > limits.max_body_bytes) {
+    return make_api_error(ApiErrorCode::kPayloadTooLarge,
+                          "the request body of " + std::to_string(*out.content_length) +
+                              " bytes is larger than the limit of " + std::to_string(limits.max_body_bytes) +
+                              " bytes (--max-body-bytes)",
+                          {{"limit_bytes", limits.max_body_bytes}, {"content_length", *out.content_length}});
+  }
+  return core::Ok{};
+}
+
+api::ApiError too_large(std::string what, const HeadLimits& limits) {
+  return make_api_error(ApiErrorCode::kHeadersTooLarge,
+                        "request head too large: " + std::move(what) + " (limits: " +
+                            std::to_string(limits.max_fields) + " fields, " + std::to_string(limits.max_head_bytes) +
+                            " bytes)",
+                        {{"max_fields", limits.max_fields}, {"max_head_bytes", limits.max_head_bytes}});
+}
+
+}  // namespace
+
+std::optional<std::string_view> RequestHead::field(std::string_view name) const {
+  for (const auto& [n, v] : fields) {
+    if (iequals(n, name)) return std::string_view(v);
+  }
+  return std::nullopt;
+}
+
+bool RequestHead::expects_continue() const {
+  const auto e = field("Expect");
+  return e && iequals(trim_ows(*e), "100-continue");
+}
+
+std::optional<std::size_t> find_head_end(std::string_view bytes) {
+  const auto end = bytes.find("\r\n\r\n");
+  if (end == std::string_view::npos) return std::nullopt;
+  return end + 4;
+}
+
+api::ApiResult<RequestHead> parse_request_head(std::string_view head, const HeadLimits& limits) {
+  if (head.size() > limits.max_head_bytes) {
+    return too_large(std::to_string(head.size()) + " bytes", limits);
+  }
+  while (head.substr(0, 2) == "\r\n") head.remove_prefix(2);  // RFC 9112 §2.2
+  if (head.size() < 4 || head.substr(head.size() - 4) != "\r\n\r\n") return malformed("the head does not end with a blank line");
+  head.remove_suffix(2);  // every line, the last included, now ends with CRLF
+  RequestHead out;
+  bool first = true;
+  while (!head.empty()) {
+    const auto eol = head.find("\r\n");
+    const auto line = head.substr(0, eol);
+    head.remove_prefix(eol + 2);
+    if (line.find('\r') != std::string_view::npos || line.find('\n') != std::string_view::npos ||
+        line.find('\0') != std::string_view::npos) {
+      return malformed("a bare CR, LF or NUL inside a line");
+    }
+    if (first) {
+      if (auto parsed = parse_request_line(line, out); !parsed.ok()) return parsed.take_error();
+      first = false;
+      continue;
+    }
+    if (line.empty() || line.front() == ' ' || line.front() == '\t') {
+      return malformed("obsolete line folding or an empty field line");
+    }
+    if (out.fields.size() == limits.max_fields) return too_large("more than " + std::to_string(limits.max_fields) + " fields", limits);
+    if (line.size() > limits.max_field_bytes) {
+      return too_large("a field line of " + std::to_string(line.size()) + " bytes (at most " +
+                           std::to_string(limits.max_field_bytes) + " each)",
+                       limits);
+    }
+    const auto colon = line.find(':');
+    if (colon == std::string_view::npos) return malformed("a field line without a colon");
+    const auto name = line.substr(0, colon);
+    if (!is_token(name)) {
+      return malformed("field name '" + std::string(name.substr(0, 40)) +
+                       "' is not a token (no space is allowed before the colon)");
+    }
+    const auto value = trim_ows(line.substr(colon + 1));
+    if (!is_field_value(value)) return malformed("field '" + std::string(name.substr(0, 40)) + "' holds control bytes");
+    out.fields.emplace_back(std::string(name), std::string(value));
+  }
+  if (auto framing = check_framing(out, limits); !framing.ok()) return framing.take_error();
+  return out;
+}
+
+std::string sanitized_head(const RequestHead& head) {
+  std::string out;
+  out.reserve(256 + head.fields.size() * 48);
+  out += head.method;
+  out += ' ';
+  out += head.target;
+  out += head.minor_version == 0 ? " HTTP/1.0\r\n" : " HTTP/1.1\r\n";
+  for (const auto& [name, value] : head.fields) {
+    if (iequals(name, "Range") || iequals(name, "If-Range")) continue;
+    out += name;
+    out += ": ";
+    out += value;
+    out += "\r\n";
+  }
+  out += "\r\n";
+  return out;
+}
+
+}  // namespace seam::server

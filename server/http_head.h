@@ -1,0 +1,70 @@
+// Strict parsing of an HTTP/1.x request head (RFC 9112 §2-3, §5-7), before cpp-httplib sees
+// it. Pure (no sockets): the connection front (server/http_front.h) reads the head bytes with
+// its own deadline and limits, parses them here, refuses what the service must not read
+// further, and hands the library a sanitized copy. Kept apart so that every rule is unit
+// tested and fuzzed (tests/fuzz/request_fuzz.cpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "api/error.h"
+
+namespace seam::server {
+
+/// The limits a head is checked against. 0 is not a valid value for any of them.
+struct HeadLimits {
+  std::size_t max_head_bytes = 64u << 10;  ///< request line + header fields + CRLFs; then 431
+  std::size_t max_fields = 100;            ///< header fields; then 431
+  std::size_t max_field_bytes = 8192;      ///< one field line (cpp-httplib's own line limit); then 431
+  std::size_t max_body_bytes = 256u << 20; ///< a larger Content-Length is a 413
+};
+
+/// One parsed request head. Field names keep their spelling; lookups ignore case.
+struct RequestHead {
+  std::string method;  ///< e.g. "POST"
+  std::string target;  ///< request-target as sent, e.g. "/seam?method=mst"
+  std::string path;    ///< target without the query, e.g. "/seam"
+  int minor_version = 1;  ///< HTTP/1.<minor_version>: 0 or 1
+  std::vector<std::pair<std::string, std::string>> fields;
+  std::optional<std::uint64_t> content_length;  ///< from Content-Length
+  bool chunked = false;                          ///< Transfer-Encoding: chunked
+
+  /// The first value of the field (case-insensitive name), or nullopt.
+  std::optional<std::string_view> field(std::string_view name) const;
+  /// True when the client expects "100 Continue" before sending the body.
+  bool expects_continue() const;
+  /// True when the request announces a body (a length > 0 or chunked framing).
+  bool has_body() const { return chunked || content_length.value_or(0) > 0; }
+};
+
+/// Where the head ends in `bytes`: the offset just past the blank line ("\r\n\r\n"), or
+/// nullopt when the head is not complete yet. Leading empty lines (RFC 9112 §2.2) are part of
+/// the head. O(n).
+std::optional<std::size_t> find_head_end(std::string_view bytes);
+
+/// Parses a complete head (as delimited by find_head_end) strictly:
+/// - request line `METHOD SP target SP HTTP/1.0|HTTP/1.1`, one space each, no control bytes;
+/// - every field `name: value` with a token name and nothing between name and colon (a space
+///   there is request smuggling, RFC 9112 §5.1), no obsolete line folding, CRLF line ends;
+/// - Content-Length digits only, repeated values equal; Transfer-Encoding only `chunked`,
+///   never together with Content-Length (§6.3).
+/// Errors: kHeadersTooLarge (431) above the limits; kPayloadTooLarge (413) when the declared
+/// length exceeds max_body_bytes; kMalformedRequest (400) for every syntax rule above;
+/// kMethodNotAllowed (405) for TRACE and CONNECT, which the service never routes;
+/// kUnsupportedMediaType (415) for a Content-Encoding other than identity (the service does
+/// not inflate bodies: a 486 KB gzip body can claim 500 MB).
+/// Complexity: O(head bytes).
+api::ApiResult<RequestHead> parse_request_head(std::string_view head, const HeadLimits& limits);
+
+/// The head handed to cpp-httplib: the request line and fields of `head` minus the ones the
+/// front has dealt with or refuses to honour (Range and If-Range: a range request never
+/// turns an answer into a larger one). Ends with the blank line. O(head bytes).
+std::string sanitized_head(const RequestHead& head);
+
+}  // namespace seam::server

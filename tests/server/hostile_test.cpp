@@ -1,0 +1,326 @@
+// Hostile traffic against the real seamd process on 127.0.0.1 (issue 10, API.md "Limits that
+// hold on every framing"): every case is framed byte by byte as an attacker would, and after
+// each the process must still be alive and answer /healthz.
+#include <doctest/doctest.h>
+
+#include "api/gltf_writer.h"
+#include "api/sample_mesh.h"
+#include "fixtures.h"
+
+#include <atomic>
+#include <future>
+#include <regex>
+
+#include "seamd_process.h"
+
+using namespace seam::test_process;
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr std::size_t kLimit = 1u << 20;  // --max-body-bytes in these tests
+
+std::vector<std::string> limited_args(std::vector<std::string> more = {}) {
+  std::vector<std::string> args = {"--max-body-bytes", std::to_string(kLimit), "--workers", "2", "--queue", "4"};
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+const std::string& sample_glb() {
+  static const std::string glb = [] {
+    auto g = seam::api::sample_glb();
+    REQUIRE(g.ok());
+    return *g;
+  }();
+  return glb;
+}
+
+void check_alive(Seamd& seamd) {
+  CHECK(seamd.running());
+  CHECK(status_of(seamd.get("/healthz")) == 200);
+}
+
+std::string error_code(const std::string& raw) {
+  const std::regex code(R"re("code":"([a-z_]+)")re");
+  std::smatch m;
+  const auto body = body_of(raw);
+  return std::regex_search(body, m, code) ? m[1].str() : std::string();
+}
+
+std::string nested(std::size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
+
+std::string multipart(const std::string& glb, const std::string& params) {
+  const std::string b = "seamtestboundary7f3a";
+  std::string body = "--" + b + "\r\nContent-Disposition: form-data; name=\"mesh\"; filename=\"m.glb\"\r\n" +
+                     "Content-Type: model/gltf-binary\r\n\r\n" + glb + "\r\n--" + b +
+                     "\r\nContent-Disposition: form-data; name=\"params\"\r\nContent-Type: application/json\r\n\r\n" +
+                     params + "\r\n--" + b + "--\r\n";
+  return post_head(body.size(), "multipart/form-data; boundary=" + b) + body;
+}
+
+// Sends `body` after `head` in blocks until the server answers; the bytes sent by then.
+std::size_t send_until_answered(RawConnection& c, const std::string& head, std::size_t body_bytes, bool chunked) {
+  REQUIRE(c.send(head));
+  const std::string block(64u << 10, 'x');
+  std::size_t sent = 0;
+  while (sent < body_bytes) {
+    pollfd p{c.fd(), POLLIN, 0};
+    if (poll(&p, 1, 0) > 0) break;  // the answer (or the close) is there
+    const std::string framed = chunked ? "10000\r\n" + block + "\r\n" : block;
+    if (!c.send(framed)) break;
+    sent += block.size();
+  }
+  return sent;
+}
+
+}  // namespace
+
+TEST_CASE("hostile: JSON nested 100,000 deep anywhere is a 400, never a crash") {
+  Seamd seamd(limited_args());
+  const auto deep = nested(100'000);
+  struct Case {
+    const char* where;
+    std::string request;
+  };
+  const std::string b64 = "\"glb_base64\":\"AAAA\"";
+  const std::vector<Case> cases = {
+      {"multipart params: extrema", multipart(sample_glb(), "{\"extrema\":" + deep + "}")},
+      {"multipart params: top level", multipart(sample_glb(), deep)},
+      {"JSON body: top level", post_head(deep.size(), "application/json") + deep},
+      {"JSON body: inside mesh.gltf", [&] {
+         const auto body = "{\"mesh\":{\"gltf\":{\"asset\":" + deep + "}}}";
+         return post_head(body.size(), "application/json") + body;
+       }()},
+      {"JSON body: extrema", [&] {
+         const auto body = "{\"mesh\":{" + b64 + "},\"extrema\":" + deep + "}";
+         return post_head(body.size(), "application/json") + body;
+       }()},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.where);
+    const auto raw = exchange(seamd.port(), c.request);
+    CHECK(status_of(raw) == 400);
+    CHECK(error_code(raw) == "malformed_request");
+    check_alive(seamd);
+  }
+}
+
+TEST_CASE("hostile: the body limit holds on every framing and is answered before the rest is read") {
+  Seamd seamd(limited_args());
+
+  SUBCASE("Content-Length over the limit: 413 at once, no body read") {
+    for (const char* length : {"3000000", "1000000000000"}) {
+      CAPTURE(length);
+      RawConnection c(seamd.port());
+      const auto t0 = Clock::now();
+      REQUIRE(c.send(std::string("POST /seam HTTP/1.1\r\nHost: t\r\nContent-Type: model/gltf-binary\r\nContent-Length: ") +
+                     length + "\r\n\r\n"));
+      const auto raw = c.read_all(10s);
+      CHECK(status_of(raw) == 413);
+      CHECK(header_of(raw, "Connection") == "close");
+      CHECK(error_code(raw) == "payload_too_large");
+      CHECK(Clock::now() - t0 < 3s);
+    }
+  }
+  SUBCASE("chunked: counted while received, 413 before the body ends") {
+    RawConnection c(seamd.port());
+    const auto head = "POST /seam HTTP/1.1\r\nHost: t\r\nContent-Type: model/gltf-binary\r\nTransfer-Encoding: chunked\r\n\r\n";
+    const auto sent = send_until_answered(c, head, 200u << 20, /*chunked=*/true);
+    const auto raw = c.read_all(10s);
+    MESSAGE("chunked: answered after " << sent << " of 200 MiB sent");
+    CHECK(status_of(raw) == 413);
+    CHECK(sent < 8 * kLimit);  // the socket buffers hold a few MB beyond what the server read
+  }
+  SUBCASE("a POST with neither length nor chunked framing is a 411") {
+    const auto raw = exchange(seamd.port(), "POST /seam HTTP/1.1\r\nHost: t\r\nContent-Type: model/gltf-binary\r\n\r\n");
+    CHECK(status_of(raw) == 411);
+    CHECK(error_code(raw) == "length_required");
+  }
+  SUBCASE("compressed bodies are refused (415), never inflated") {
+    const auto raw = exchange(seamd.port(), post_head(64, "model/gltf-binary", "Content-Encoding: gzip\r\n") + std::string(64, 'x'));
+    CHECK(status_of(raw) == 415);
+  }
+  SUBCASE("Expect: 100-continue over the limit is a 413, not 100 Continue") {
+    const auto raw = exchange(seamd.port(), post_head(3'000'000, "model/gltf-binary", "Expect: 100-continue\r\n"), 5s);
+    CHECK(status_of(raw) == 413);
+    CHECK(raw.find("100 Continue") == std::string::npos);
+  }
+  SUBCASE("Expect: 100-continue within the limit gets 100, then the answer") {
+    RawConnection c(seamd.port());
+    REQUIRE(c.send(post_head(sample_glb().size(), "model/gltf-binary", "Expect: 100-continue\r\n")));
+    const auto interim = c.read_until("\r\n\r\n", 5s);
+    CHECK(status_of(interim) == 100);
+    REQUIRE(c.send(sample_glb()));
+    const auto raw = interim + c.read_all(60s);
+    CHECK(statuses_of(raw) == std::vector<int>{100, 200});
+  }
+  check_alive(seamd);
+}
+
+TEST_CASE("hostile: Range never turns an answer into a larger one") {
+  Seamd seamd(limited_args());
+  const auto plain = seamd.get("/version");
+  std::string ranges = "bytes=0-";
+  for (int i = 0; i < 2500; ++i) ranges += ",0-";
+  const auto raw = exchange(seamd.port(), "GET /version HTTP/1.1\r\nHost: t\r\nRange: " + ranges.substr(0, 8000) +
+                                              "\r\nConnection: close\r\n\r\n");
+  CHECK(status_of(raw) == 200);
+  CHECK(body_of(raw) == body_of(plain));
+  const auto seam = exchange(seamd.port(), post_head(sample_glb().size(), "model/gltf-binary", "Range: bytes=0-,0-,0-,0-\r\n") + sample_glb(), 60s);
+  CHECK(status_of(seam) == 200);
+  CHECK(header_of(seam, "Content-Type") == "application/json");
+}
+
+TEST_CASE("hostile: header floods are a 431 at 100 fields or 64 KiB, memory stays flat") {
+  Seamd seamd(limited_args());
+  auto with_fields = [](std::size_t n, std::size_t value_bytes) {
+    std::string r = "GET /healthz HTTP/1.1\r\nHost: t\r\n";
+    for (std::size_t i = 1; i < n; ++i) r += "X-F" + std::to_string(i) + ": " + std::string(value_bytes, 'v') + "\r\n";
+    return r + "\r\n";
+  };
+  CHECK(status_of(exchange(seamd.port(), with_fields(100, 8))) == 200);
+  CHECK(status_of(exchange(seamd.port(), with_fields(101, 8))) == 431);
+  CHECK(status_of(exchange(seamd.port(), with_fields(20, 4000))) == 431);  // 80 KB of head
+  CHECK(status_of(exchange(seamd.port(), "GET /healthz HTTP/1.1\r\nX-Big: " + std::string(9000, 'b') + "\r\n\r\n")) == 431);
+
+  const long rss_before = seamd.rss_kib();
+  RawConnection c(seamd.port());
+  REQUIRE(c.send("GET /healthz HTTP/1.1\r\n"));
+  std::size_t sent = 0;
+  const std::string block = [] {
+    std::string b;
+    for (int i = 0; i < 1000; ++i) b += "X-A: b\r\n";
+    return b;
+  }();
+  for (int i = 0; i < 1000 && c.send(block); ++i) sent += 1000;  // up to 1,000,000 fields
+  const auto raw = c.read_all(5s);
+  MESSAGE("header flood: " << sent << " fields sent before the 431; RSS " << rss_before << " -> " << seamd.rss_kib() << " KiB");
+  CHECK(status_of(raw) == 431);
+  CHECK(seamd.rss_kib() < rss_before + 20 * 1024);
+  check_alive(seamd);
+}
+
+TEST_CASE("hostile: 80 clients trickling a byte a second leave /healthz and seam requests answered") {
+  Seamd seamd(limited_args({"--request-timeout-s", "4"}));
+  std::vector<RawConnection> slow;
+  for (int i = 0; i < 80; ++i) {
+    slow.emplace_back(seamd.port());
+    REQUIRE(slow.back().connected());
+    // Half trickle their head, half a declared body.
+    REQUIRE(slow.back().send(i % 2 ? "GET /healthz HTTP/1.1\r\nHost: t\r\nX-Slow: " : post_head(100'000)));
+  }
+  std::atomic<bool> stop{false};
+  std::thread trickle([&] {
+    while (!stop) {
+      for (auto& s : slow) s.send("a");
+      std::this_thread::sleep_for(1s);
+    }
+  });
+  int probes = 0, healthy = 0;
+  double worst_ms = 0;
+  const auto until = Clock::now() + 3s;
+  while (Clock::now() < until) {
+    const auto t0 = Clock::now();
+    healthy += status_of(seamd.get("/healthz", 2s)) == 200;
+    worst_ms = std::max(worst_ms, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    ++probes;
+    std::this_thread::sleep_for(100ms);
+  }
+  const auto seam = exchange(seamd.port(), post_head(sample_glb().size()) + sample_glb(), 60s);
+  MESSAGE("80 slow clients: /healthz " << healthy << "/" << probes << ", worst " << worst_ms << " ms");
+  CHECK(healthy == probes);
+  CHECK(status_of(seam) == 200);
+  // Each slow client is ended with a 408 by its deadline (4 s, + 100000 B / 64 KiB/s for a body).
+  int timed_out = 0;
+  for (auto& s : slow) timed_out += status_of(s.read_all(8s)) == 408;
+  stop = true;
+  trickle.join();
+  CHECK(timed_out == 80);
+  check_alive(seamd);
+}
+
+TEST_CASE("hostile: a client that disconnects cancels its job; a half-closed one frees its worker too") {
+  // A 327,680-face sphere: seconds of work for one worker, so a job that was not cancelled
+  // would hold the only worker well past the checks below.
+  const auto sphere = seam::fixtures::icosphere(7);
+  auto big = seam::api::write_plain_glb(seam::core::IndexedMesh{sphere.positions, sphere.triangles});
+  REQUIRE(big.ok());
+  Seamd seamd({"--workers", "1", "--queue", "0", "--max-body-bytes", std::to_string(64u << 20)});
+  auto busy = [&] {
+    const auto metrics = body_of(seamd.get("/metrics"));
+    const std::regex gauge(R"(\nseamd_busy_workers (\d+))");
+    std::smatch m;
+    return std::regex_search(metrics, m, gauge) ? std::stoi(m[1].str()) : -1;
+  };
+  for (const bool half_close : {false, true}) {
+    CAPTURE(half_close);
+    std::optional<RawConnection> c(std::in_place, seamd.port());
+    REQUIRE(c->send(post_head(big->size()) + *big));
+    for (int i = 0; i < 200 && busy() != 1; ++i) std::this_thread::sleep_for(20ms);
+    REQUIRE(busy() == 1);
+    const auto left = Clock::now();
+    if (half_close) {
+      c->shutdown_write();
+    } else {
+      c.reset();
+    }
+    while (busy() != 0 && Clock::now() - left < 20s) std::this_thread::sleep_for(20ms);
+    const double freed_ms = std::chrono::duration<double, std::milli>(Clock::now() - left).count();
+    MESSAGE("worker freed " << freed_ms << " ms after the client " << std::string(half_close ? "half-closed" : "disconnected"));
+    CHECK(busy() == 0);
+    CHECK(freed_ms < 3000);
+    if (half_close) CHECK(c->read_all(5s).empty());  // a closed socket, not a late answer
+  }
+  const auto metrics = body_of(seamd.get("/metrics"));
+  CHECK(metrics.find("seamd_requests_total{route=\"/seam\",status=\"499\"} 2") != std::string::npos);
+  check_alive(seamd);
+}
+
+TEST_CASE("hostile: the bytes-in-flight budget refuses with 503 and Retry-After before reading") {
+  Seamd seamd(limited_args({"--max-inflight-bytes", std::to_string(1u << 20)}));
+  // 200 KB x 4 = 800 KB held while its body trickles in; a second one does not fit.
+  RawConnection holder(seamd.port());
+  REQUIRE(holder.send(post_head(200'000) + "x"));
+  std::this_thread::sleep_for(200ms);
+  const auto raw = exchange(seamd.port(), post_head(200'000) + std::string(200'000, 'y'));
+  CHECK(status_of(raw) == 503);
+  CHECK(error_code(raw) == "overloaded");
+  CHECK(header_of(raw, "Retry-After") == "1");
+  // Small requests and requests without a body are not held back.
+  CHECK(status_of(seamd.get("/healthz")) == 200);
+}
+
+TEST_CASE("hostile: pipelining, strict header syntax, OPTIONS, TRACE and form bodies") {
+  Seamd seamd(limited_args());
+  SUBCASE("pipelined requests are answered in order on one connection") {
+    const auto raw = exchange(seamd.port(),
+                              "GET /healthz HTTP/1.1\r\nHost: t\r\n\r\nGET /nope HTTP/1.1\r\nHost: t\r\n\r\n"
+                              "GET /version HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n");
+    CHECK(statuses_of(raw) == std::vector<int>{200, 404, 200});
+  }
+  SUBCASE("syntax that smuggles or folds is a 400") {
+    for (const char* bad : {"GET /healthz HTTP/1.1\r\nContent-Length : 5\r\n\r\nhello",
+                            "GET /healthz HTTP/1.1\r\nX-A: b\r\n folded\r\n\r\n",
+                            "POST /seam HTTP/1.1\r\nContent-Length: 4\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n",
+                            "POST /seam HTTP/1.1\r\nTransfer-Encoding: gzip, chunked\r\n\r\n",
+                            "POST /seam HTTP/1.1\r\nContent-Length: 4\r\nContent-Length: 5\r\n\r\nabcd",
+                            "GET  /healthz HTTP/1.1\r\n\r\n", "GET /healthz HTTP/2.0\r\n\r\n",
+                            "GET /healthz HTTP/1.1\nHost: t\r\n\r\n"}) {
+      CAPTURE(bad);
+      CHECK(status_of(exchange(seamd.port(), bad)) == 400);
+    }
+  }
+  SUBCASE("OPTIONS is a 204 with Allow; TRACE a 405 with Allow") {
+    const auto options = exchange(seamd.port(), "OPTIONS /seam HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n");
+    CHECK(status_of(options) == 204);
+    CHECK(header_of(options, "Allow") == "POST, OPTIONS");
+    const auto trace = exchange(seamd.port(), "TRACE /seam HTTP/1.1\r\nHost: t\r\n\r\n");
+    CHECK(status_of(trace) == 405);
+    CHECK(!header_of(trace, "Allow").empty());
+  }
+  SUBCASE("a form-urlencoded body is a 415") {
+    const auto raw = exchange(seamd.port(), post_head(3, "application/x-www-form-urlencoded") + "a=b");
+    CHECK(status_of(raw) == 415);
+  }
+  check_alive(seamd);
+}
