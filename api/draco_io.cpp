@@ -1,9 +1,15 @@
 #include "api/draco_io.h"
 
+#include <algorithm>
 #include <cstring>
+#include <optional>
+#include <type_traits>
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
+#include <draco/compression/mesh/mesh_edgebreaker_decoder.h>
+#include <draco/compression/mesh/mesh_sequential_decoder.h>
+#include <draco/core/varint_decoding.h>
 #include <draco/mesh/mesh.h>
 
 namespace seam::api {
@@ -51,6 +57,148 @@ draco::GeometryAttribute::Type draco_semantic(const std::string& gltf_name) {
   if (gltf_name.rfind("TEXCOORD_", 0) == 0) return draco::GeometryAttribute::TEX_COORD;
   if (gltf_name.rfind("COLOR_", 0) == 0) return draco::GeometryAttribute::COLOR;
   return draco::GeometryAttribute::GENERIC;
+}
+
+// --- Bounded decoding -------------------------------------------------------------------
+//
+// A Draco payload states its counts (faces, points, attribute components) and draco sizes its
+// allocations by them: a 300 KB payload claiming 300k points of 255 float components made it
+// allocate and zero 306 MB per copy (+568 MB, 1.1 s) before failing. draco has no hook
+// between parsing a count and allocating by it, so we decode with draco's own mesh decoders
+// subclassed at the two points where the claims are known and nothing sized by them exists:
+//  1. DecodeConnectivity, entered right after the header and metadata: the connectivity
+//     header's counts are peeked from a copy of the buffer and checked against the limits
+//     before draco sizes its face list or corner table by them;
+//  2. DecodeAllAttributes, entered after connectivity (the point count is then real) and after
+//     the attribute headers (types and component counts, no values yet): the decoded
+//     attribute bytes are checked before any attribute buffer is allocated.
+// So memory stays O(faces) with faces <= max_faces, and attribute memory is at most
+// 3 * faces * kMaxDracoBytesPerPoint.
+
+// Attribute bytes one point may carry once decoded: 32 float components, e.g. POSITION,
+// NORMAL, TANGENT, two TEXCOORDs, COLOR, JOINTS and WEIGHTS (96 bytes) with room to spare.
+constexpr std::size_t kMaxDracoBytesPerPoint = 128;
+
+ApiError too_large(std::string message) { return make_api_error(ApiErrorCode::kMeshTooLarge, std::move(message)); }
+
+// A count as the bitstream version stores it: uint32 before `varint_from`, varint from it on.
+std::optional<std::uint32_t> read_count(draco::DecoderBuffer& buffer, std::uint16_t varint_from) {
+  std::uint32_t v = 0;
+  const bool ok = buffer.bitstream_version() < varint_from ? buffer.Decode(&v) : draco::DecodeVarint(&v, &buffer);
+  return ok ? std::optional<std::uint32_t>(v) : std::nullopt;
+}
+
+// The counts a connectivity header claims (layouts of draco 1.5's MeshSequentialDecoder and
+// MeshEdgebreakerDecoderImpl::DecodeConnectivity, bitstreams 1.x to 2.2). Points of an
+// edgebreaker stream: encoded vertices plus split symbols, what draco's corner table is sized by.
+struct ClaimedCounts {
+  std::uint32_t faces = 0;
+  std::uint64_t points = 0;
+};
+
+std::optional<ClaimedCounts> sequential_counts(draco::DecoderBuffer buffer) {
+  const auto faces = read_count(buffer, DRACO_BITSTREAM_VERSION(2, 2));
+  const auto points = faces ? read_count(buffer, DRACO_BITSTREAM_VERSION(2, 2)) : std::nullopt;
+  if (!points) return std::nullopt;
+  return ClaimedCounts{*faces, *points};
+}
+
+std::optional<ClaimedCounts> edgebreaker_counts(draco::DecoderBuffer buffer) {
+  const std::uint16_t v2_0 = DRACO_BITSTREAM_VERSION(2, 0);
+  if (buffer.bitstream_version() < DRACO_BITSTREAM_VERSION(2, 2) && !read_count(buffer, v2_0)) return std::nullopt;
+  const auto vertices = read_count(buffer, v2_0);
+  const auto faces = vertices ? read_count(buffer, v2_0) : std::nullopt;
+  std::uint8_t attribute_data = 0;
+  if (!faces || !buffer.Decode(&attribute_data)) return std::nullopt;
+  const auto symbols = read_count(buffer, v2_0);
+  const auto splits = symbols ? read_count(buffer, v2_0) : std::nullopt;
+  if (!splits) return std::nullopt;
+  return ClaimedCounts{*faces, std::uint64_t{*vertices} + *splits};
+}
+
+// A mesh has at most 3 points per face that faces use; more are unused points whose memory
+// the face limit would not bound.
+std::optional<ApiError> check_counts(std::uint64_t faces, std::uint64_t points, const ReadLimits& limits) {
+  if (faces > limits.max_faces) {
+    return too_large("the Draco mesh declares " + std::to_string(faces) + " faces, more than the limit of " +
+                     std::to_string(limits.max_faces));
+  }
+  if (points > limits.max_vertices || points > 3 * faces) {
+    return too_large("the Draco mesh declares " + std::to_string(points) + " points for " + std::to_string(faces) +
+                     " faces (at most 3 per face and " + std::to_string(limits.max_vertices) + " in all)");
+  }
+  return std::nullopt;
+}
+
+template <class Base>
+class BoundedMeshDecoder : public Base {
+ public:
+  explicit BoundedMeshDecoder(const ReadLimits& limits) : limits_(limits) {}
+  /// Why decoding stopped, when it was one of our checks rather than draco's.
+  const std::optional<ApiError>& refusal() const { return refusal_; }
+
+ protected:
+  bool DecodeConnectivity() override {
+    const auto claimed = std::is_base_of_v<draco::MeshEdgebreakerDecoder, Base> ? edgebreaker_counts(*this->buffer())
+                                                                                : sequential_counts(*this->buffer());
+    if (!claimed) return false;  // truncated: draco's own read fails the same way
+    refusal_ = check_counts(claimed->faces, claimed->points, limits_);
+    return !refusal_ && Base::DecodeConnectivity();
+  }
+
+  bool DecodeAllAttributes() override {
+    const draco::PointCloud& pc = *this->point_cloud();
+    refusal_ = check_counts(this->mesh()->num_faces(), pc.num_points(), limits_);
+    if (refusal_) return false;
+    std::size_t bytes_per_point = 0;
+    for (int i = 0; i < pc.num_attributes(); ++i) {
+      const draco::PointAttribute* a = pc.attribute(i);
+      if (a == nullptr) continue;
+      if (a->num_components() < 1 || a->num_components() > 4) {
+        refusal_ = malformed("Draco attribute " + std::to_string(a->unique_id()) + " has " +
+                             std::to_string(a->num_components()) + " components (glTF allows 1 to 4)");
+        return false;
+      }
+      bytes_per_point += static_cast<std::size_t>(a->num_components()) *
+                         static_cast<std::size_t>(std::max(0, draco::DataTypeLength(a->data_type())));
+    }
+    if (bytes_per_point > kMaxDracoBytesPerPoint) {
+      refusal_ = too_large("the Draco attributes take " + std::to_string(bytes_per_point) +
+                           " bytes per point, more than the limit of " + std::to_string(kMaxDracoBytesPerPoint));
+      return false;
+    }
+    return Base::DecodeAllAttributes();
+  }
+
+ private:
+  ReadLimits limits_;
+  std::optional<ApiError> refusal_;
+};
+
+template <class Decoder>
+ApiResult<std::unique_ptr<draco::Mesh>> decode_bounded(draco::DecoderBuffer& buffer, const ReadLimits& limits) {
+  Decoder decoder(limits);
+  auto mesh = std::make_unique<draco::Mesh>();
+  const draco::DecoderOptions options;
+  const draco::Status status = decoder.Decode(options, &buffer, mesh.get());
+  if (decoder.refusal()) return *decoder.refusal();
+  if (!status.ok()) return malformed("Draco decode failed: " + status.error_msg_string());
+  return mesh;
+}
+
+// draco::Decoder::DecodeMeshFromBuffer with our decoders in place of draco's.
+ApiResult<std::unique_ptr<draco::Mesh>> decode_mesh(draco::DecoderBuffer& buffer, const ReadLimits& limits) {
+  draco::DecoderBuffer header_buffer(buffer);
+  draco::DracoHeader header;
+  const draco::Status status = draco::PointCloudDecoder::DecodeHeader(&header_buffer, &header);
+  if (!status.ok()) return malformed("Draco: " + status.error_msg_string());
+  switch (header.encoder_method) {
+    case draco::MESH_SEQUENTIAL_ENCODING:
+      return decode_bounded<BoundedMeshDecoder<draco::MeshSequentialDecoder>>(buffer, limits);
+    case draco::MESH_EDGEBREAKER_ENCODING:
+      return decode_bounded<BoundedMeshDecoder<draco::MeshEdgebreakerDecoder>>(buffer, limits);
+    default: return malformed("Draco: unknown mesh encoding method " + std::to_string(header.encoder_method));
+  }
 }
 
 template <class T>
@@ -121,11 +269,8 @@ ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const Rea
   if (type.value() != draco::TRIANGULAR_MESH) {
     return make_api_error(ApiErrorCode::kNoTrianglePrimitive, "the Draco data is a point cloud, not a triangle mesh");
   }
-  draco::Decoder decoder;
-  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-  if (!decoded.ok()) return malformed("Draco decode failed: " + decoded.status().error_msg_string());
-  std::shared_ptr<const draco::Mesh> mesh(std::move(decoded).value());
-  if (!mesh) return malformed("Draco decode returned no mesh");
+  SEAM_TRY(std::unique_ptr<draco::Mesh> decoded, decode_mesh(buffer, limits));
+  std::shared_ptr<const draco::Mesh> mesh(std::move(decoded));
   DracoMesh out;
   out.num_points = mesh->num_points();
   if (mesh->num_faces() > limits.max_faces) {
