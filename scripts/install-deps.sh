@@ -11,7 +11,7 @@ packages=(build-essential cmake ninja-build pkg-config ccache
           libspdlog-dev doctest-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread
           curl ca-certificates)
 if [[ "${1:-}" == "--test" ]]; then
-  packages+=(clang libclang-rt-14-dev)
+  packages+=(clang libclang-rt-14-dev nginx)
   # Node.js may come from elsewhere than Debian (Debian's npm then conflicts with it): only
   # install Debian's when the commands are missing.
   command -v node >/dev/null 2>&1 || packages+=(nodejs)
