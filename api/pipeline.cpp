@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <new>
+#include <optional>
 #include <unordered_map>
 
 #include "api/gltf_reader.h"
@@ -118,58 +119,103 @@ ApiError map_core_error(const core::Error& error, const Canonical& canon, core::
   return out;
 }
 
+// The cost cap comes first: an over-long explicit list is refused before the asset is parsed.
+ApiResult<std::size_t> explicit_extrema_count(const ExtremaSpec& spec, std::size_t max_extrema) {
+  const std::size_t count = spec.indices.size() + spec.positions.size();
+  if (count > max_extrema) {
+    return make_api_error(ApiErrorCode::kTooManyExtrema,
+                          "extrema: " + std::to_string(count) + " explicit extrema, more than the limit of " +
+                              std::to_string(max_extrema) + " (the server's --max-extrema)",
+                          {{"count", count}, {"limit", max_extrema}});
+  }
+  return count;
+}
+
+// Automatic extrema minus `excluded`, at most `budget` of them: the most prominent (ties: the
+// lower vertex id), kept in the detector's order (by component, most prominent first). The
+// detector's per-component cap is lowered to the budget too, so it never ranks more.
+ApiResult<std::vector<core::VertexId>> automatic_extrema(const ExtremaSpec& spec, std::vector<core::VertexId> excluded,
+                                                         const core::HalfedgeMesh& mesh, std::size_t budget,
+                                                         unsigned threads, const core::CancelToken& cancel) {
+  if (budget == 0) return std::vector<core::VertexId>{};
+  core::ExtremaOptions options = spec.auto_options;
+  options.threads = threads;
+  if (options.max_count == 0 || options.max_count > budget) options.max_count = budget;
+  auto found = core::detect_extrema(mesh, options, cancel);
+  if (!found.ok()) return from_core(found.error());
+  std::sort(excluded.begin(), excluded.end());
+  std::vector<core::Extremum> kept;
+  for (const auto& e : found->extrema) {
+    if (!std::binary_search(excluded.begin(), excluded.end(), e.vertex)) kept.push_back(e);
+  }
+  if (kept.size() > budget) {
+    std::vector<std::size_t> rank(kept.size());
+    for (std::size_t i = 0; i < rank.size(); ++i) rank[i] = i;
+    std::stable_sort(rank.begin(), rank.end(), [&](std::size_t a, std::size_t b) {
+      if (kept[a].prominence != kept[b].prominence) return kept[a].prominence > kept[b].prominence;
+      return kept[a].vertex < kept[b].vertex;
+    });
+    std::vector<bool> keep(kept.size(), false);
+    for (std::size_t i = 0; i < budget; ++i) keep[rank[i]] = true;
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      if (keep[i]) kept[w++] = kept[i];
+    }
+    kept.resize(w);
+  }
+  std::vector<core::VertexId> out;
+  out.reserve(kept.size());
+  for (const auto& e : kept) out.push_back(e.vertex);
+  return out;
+}
+
+// Explicit extrema first in the budget (the client named them), then the automatic ones.
 ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, const PrimitiveData& data,
                                                        const Canonical& canon, const core::HalfedgeMesh& mesh,
-                                                       const core::CancelToken& cancel) {
+                                                       const PipelineLimits& limits, const core::CancelToken& cancel) {
   const std::size_t n = data.mesh.positions.size();
-  auto check = [&](std::uint32_t i, const char* what) -> core::Status {
-    if (i >= n) {
-      return core::make_error(core::ErrorCode::kIndexOutOfRange,
-                              std::string(what) + " vertex " + std::to_string(i) + " is out of range: the primitive has " +
-                                  std::to_string(n) + " vertices",
-                              {i});
-    }
-    return core::Ok{};
+  auto check = [&](std::uint32_t i, const char* what) -> std::optional<ApiError> {
+    if (i < n) return std::nullopt;
+    return make_api_error(ApiErrorCode::kExtremumOutOfRange,
+                          std::string(what) + " vertex " + std::to_string(i) + " is out of range: the primitive has " +
+                              std::to_string(n) + " vertices",
+                          {{"index", i}, {"vertices", n}});
   };
-  auto out_of_range = [&](const core::Error& e) {
-    return make_api_error(ApiErrorCode::kExtremumOutOfRange, e.message, {{"index", e.elements.front()}, {"vertices", n}});
-  };
+  SEAM_TRY(const std::size_t explicit_count, explicit_extrema_count(spec, limits.max_extrema));
   std::vector<core::VertexId> result;
   auto add = [&](core::VertexId v) {
     if (std::find(result.begin(), result.end(), v) == result.end()) result.push_back(v);
   };
   if (spec.automatic) {
-    auto found = core::find_extrema(mesh, spec.auto_options, cancel);
-    if (!found.ok()) return from_core(found.error());
     std::vector<core::VertexId> excluded;
     for (auto i : spec.exclude) {
-      if (auto s = check(i, "excluded"); !s.ok()) return out_of_range(s.error());
+      if (auto e = check(i, "excluded")) return *e;
       excluded.push_back(core::VertexId(canon.input_to_vertex[i]));
     }
-    for (auto v : *found) {
-      if (std::find(excluded.begin(), excluded.end(), v) == excluded.end()) add(v);
-    }
+    SEAM_TRY(const std::vector<core::VertexId> found,
+             automatic_extrema(spec, std::move(excluded), mesh, limits.max_extrema - explicit_count, limits.threads,
+                               cancel));
+    for (auto v : found) add(v);
   }
   for (auto i : spec.indices) {
-    if (auto s = check(i, "extremum"); !s.ok()) return out_of_range(s.error());
+    if (auto e = check(i, "extremum")) return *e;
     add(core::VertexId(canon.input_to_vertex[i]));
   }
-  if (!spec.positions.empty()) {
-    // Snap to the nearest vertex that lies on the surface (isolated vertices cannot be terminals).
-    for (const auto& p : spec.positions) {
-      const core::Vec3 q(p[0], p[1], p[2]);
-      double best = std::numeric_limits<double>::infinity();
-      core::VertexId best_v;
-      for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) {
-        if (mesh.is_isolated(core::VertexId(v))) continue;
-        const double d = (mesh.position(core::VertexId(v)) - q).squaredNorm();
-        if (d < best) {
-          best = d;
-          best_v = core::VertexId(v);
-        }
+  // Snap each position to the nearest vertex that lies on the surface (isolated vertices
+  // cannot be terminals).
+  for (const auto& p : spec.positions) {
+    const core::Vec3 q(p[0], p[1], p[2]);
+    double best = std::numeric_limits<double>::infinity();
+    core::VertexId best_v;
+    for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.is_isolated(core::VertexId(v))) continue;
+      const double d = (mesh.position(core::VertexId(v)) - q).squaredNorm();
+      if (d < best) {
+        best = d;
+        best_v = core::VertexId(v);
       }
-      if (best_v.valid()) add(best_v);
     }
+    if (best_v.valid()) add(best_v);
   }
   return result;
 }
@@ -182,6 +228,8 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     const auto t_start = Clock::now();
     json timings = json::object();
     auto t = Clock::now();
+    // Cost caps before any work on the mesh.
+    if (auto count = explicit_extrema_count(params.extrema, limits.max_extrema); !count.ok()) return count.take_error();
     ReadLimits read_limits;
     read_limits.max_faces = limits.max_faces;
     SEAM_TRY(const GltfDocument doc, parse_asset(asset_bytes, kind, read_limits));
@@ -202,13 +250,14 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     if (cancel.is_cancelled()) return timeout("welding");
 
     t = Clock::now();
-    SEAM_TRY(const std::vector<core::VertexId> extrema, resolve_extrema(params.extrema, data, canon, mesh, cancel));
+    SEAM_TRY(const std::vector<core::VertexId> extrema, resolve_extrema(params.extrema, data, canon, mesh, limits, cancel));
     timings["extrema"] = ms_since(t);
 
     t = Clock::now();
     core::SeamOptions seam_options;
     seam_options.method = params.method;
     seam_options.refine = params.refine;
+    seam_options.threads = limits.threads;
     auto seam = core::compute_seam(mesh, extrema, seam_options, cancel);
     if (!seam.ok()) return map_core_error(seam.error(), canon, seam.error().code);
     timings["seam"] = ms_since(t);

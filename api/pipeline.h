@@ -58,8 +58,19 @@ ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string,
 /// "DRACO" magic = raw Draco mesh.
 enum class AssetKind { kAuto, kGlb, kGltfJson, kDraco };
 
+/// Per-request cost caps and the request's thread budget (the server's --max-faces,
+/// --max-extrema and threads per request).
 struct PipelineLimits {
-  std::size_t max_faces = 5'000'000;  ///< larger primitives are a 422 (kMeshTooLarge)
+  /// Larger primitives are a 422 (kMeshTooLarge). Also bounds what a Draco payload may claim
+  /// before it is decoded (decode_draco).
+  std::size_t max_faces = 5'000'000;
+  /// Explicit extrema (indices plus positions) beyond this are a 422 (kTooManyExtrema) before
+  /// any mesh work; automatic detection keeps at most this many, the most prominent, minus
+  /// the explicit ones. The seam's cost grows with the square of the extrema count.
+  std::size_t max_extrema = 256;
+  /// Threads the job may run at once (extrema detection, terminal-path Dijkstra); 0 = the
+  /// hardware concurrency. The result does not depend on it.
+  unsigned threads = 0;
 };
 
 struct PipelineOutput {
@@ -69,7 +80,10 @@ struct PipelineOutput {
 };
 
 /// Runs one seam job. Never throws for bad input: every failure is an ApiError with the
-/// contract's code. Cancelled work (time budget) returns kTimeout.
+/// contract's code. Cancelled work (time budget) returns kTimeout. Errors besides the
+/// loader's, the core's and kTimeout: kTooManyExtrema (more explicit extrema than
+/// limits.max_extrema, checked before the asset is parsed), kExtremumOutOfRange, kInternal.
+/// Uses at most max(1, limits.threads) threads (hardware concurrency when 0).
 ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, AssetKind kind,
                                             const SeamParams& params, const PipelineLimits& limits,
                                             const core::CancelToken& cancel);

@@ -3,9 +3,14 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
+#include <thread>
 
 #include "api/gltf_reader.h"
 #include "api/gltf_writer.h"
@@ -14,6 +19,7 @@
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
+#include "extrema_fixtures.h"
 #include "fixtures.h"
 #include "gltf_test_util.h"
 #include "test_data.h"
@@ -419,4 +425,129 @@ TEST_CASE("parameters from JSON and from the query string agree") {
     REQUIRE(!r.ok());
     CHECK(r.error().code == ApiErrorCode::kInvalidParameter);
   }
+}
+
+TEST_CASE("explicit extrema beyond max_extrema are a 422 before the asset is even parsed") {
+  SeamParams params;
+  params.extrema.automatic = false;
+  for (std::uint32_t i = 0; i < 300; ++i) params.extrema.indices.push_back(i);
+  // Not an asset at all: the cost cap answers first.
+  auto out = run_seam_pipeline("not an asset", AssetKind::kAuto, params, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kTooManyExtrema);
+  CHECK(http_status(out.error().code) == 422);
+  CHECK(code_name(out.error().code) == "too_many_extrema");
+  CHECK(out.error().message == "extrema: 300 explicit extrema, more than the limit of 256 (the server's --max-extrema)");
+  CHECK(out.error().details["count"] == 300);
+  CHECK(out.error().details["limit"] == 256);
+
+  // Indices and positions count together.
+  params.extrema.indices.resize(200);
+  params.extrema.positions.assign(57, {0.0, 0.0, 0.0});
+  out = run_seam_pipeline("not an asset", AssetKind::kAuto, params, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kTooManyExtrema);
+  CHECK(out.error().details["count"] == 257);
+  // 256 is within the limit: the asset is parsed next, and refused.
+  params.extrema.positions.resize(56);
+  out = run_seam_pipeline("not an asset", AssetKind::kAuto, params, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kMalformedAsset);
+
+  PipelineLimits two;
+  two.max_extrema = 2;
+  params.extrema.indices = {0, 1, 2};
+  params.extrema.positions.clear();
+  out = run_seam_pipeline("not an asset", AssetKind::kAuto, params, two, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kTooManyExtrema);
+  CHECK(out.error().message.find("limit of 2 ") != std::string::npos);
+}
+
+TEST_CASE("automatic extrema are capped at max_extrema: the most prominent, explicit ones first") {
+  const auto glb = write_plain_glb(test_data::load_cgal("elephant"));
+  REQUIRE(glb.ok());
+  SeamParams params;
+  params.method = core::SeamMethod::kMst;
+  params.uv = std::nullopt;
+  auto run = [&](const SeamParams& p, std::size_t max_extrema) {
+    PipelineLimits limits;
+    limits.max_extrema = max_extrema;
+    auto out = run_seam_pipeline(*glb, AssetKind::kAuto, p, limits, core::CancelToken::none());
+    REQUIRE_MESSAGE(out.ok(), (out.ok() ? "" : out.error().message));
+    std::vector<std::uint32_t> extrema;
+    for (const auto& v : out->body["seam"]["extrema"]) extrema.push_back(v.get<std::uint32_t>());
+    return extrema;
+  };
+  // The elephant is one component: the detector lists its tips most prominent first.
+  const auto all = run(params, 256);
+  REQUIRE(all.size() > 3);
+  const auto three = run(params, 3);
+  REQUIRE(three.size() == 3);
+  CHECK(std::set<std::uint32_t>(three.begin(), three.end()) == std::set<std::uint32_t>(all.begin(), all.begin() + 3));
+
+  // An included vertex takes one of the three places; the two most prominent tips fill the rest.
+  SeamParams with_include = params;
+  with_include.extrema.indices = {all.back()};
+  const auto mixed = run(with_include, 3);
+  CHECK(std::set<std::uint32_t>(mixed.begin(), mixed.end()) ==
+        std::set<std::uint32_t>{all[0], all[1], all.back()});
+}
+
+namespace {
+
+// Threads started while `work` runs (Linux /proc/self/task, sampled every millisecond): the
+// most alive at once beyond those alive before, the sampler not counted.
+template <class F>
+std::size_t extra_threads_during(F&& work) {
+  auto count = [] {
+    std::size_t n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator("/proc/self/task")) ++n;
+    return n;
+  };
+  const std::size_t before = count();
+  std::atomic<bool> done = false;
+  std::atomic<std::size_t> peak = before + 1;
+  std::thread sampler([&] {
+    do {
+      peak = std::max(peak.load(), count());
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    } while (!done);
+  });
+  work();
+  done = true;
+  sampler.join();
+  return peak - before - 1;
+}
+
+}  // namespace
+
+TEST_CASE("limits.threads bounds the job's threads, and one thread gives the same bytes as two") {
+  // Six spikes: six extrema, so the terminal paths would use five Dijkstra threads, and over
+  // 10k vertices, so extrema detection would use as many as there are cores.
+  const auto ball = fixtures::six_spike_ball(0.045);
+  REQUIRE(ball.soup.positions.size() > 10'000);
+  const auto glb = write_plain_glb(core::IndexedMesh{ball.soup.positions, ball.soup.triangles});
+  REQUIRE(glb.ok());
+  SeamParams params;
+  params.uv = std::nullopt;  // the solver's threads (OpenBLAS) are not the pipeline's
+  auto run = [&](unsigned threads) {
+    PipelineLimits limits;
+    limits.threads = threads;
+    std::optional<PipelineOutput> out;
+    const std::size_t extra = extra_threads_during([&] {
+      auto r = run_seam_pipeline(*glb, AssetKind::kAuto, params, limits, core::CancelToken::none());
+      REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
+      out = std::move(r).value();
+    });
+    CAPTURE(threads);
+    CHECK(extra <= threads - 1);  // the calling thread works too
+    return std::move(*out);
+  };
+  const PipelineOutput one = run(1);
+  const PipelineOutput two = run(2);
+  CHECK(one.body["seam"]["extrema"].size() == 6);
+  CHECK(one.body["seam"] == two.body["seam"]);
+  CHECK(one.body["cut"] == two.body["cut"]);
+  CHECK(one.glb == two.glb);
 }
