@@ -3,6 +3,7 @@
 # CGAL meshes at run time (scripts/off2glb.py), at 1, 8 and 64 concurrent connections.
 # Prints a table: throughput, p50/p99 latency, share of 503s, peak RSS of seamd; and at
 # concurrency 1 the CLI's time for the same job (`seamd seam`) against the HTTP latency.
+# Last, connect-time percentiles under a burst of 256 connections (scripts/burst-bench.py).
 #
 #   scripts/load-bench.sh [SEAMD] [--workers N] [--duration S]
 #
@@ -112,3 +113,8 @@ name, cli, http, pipe = sys.argv[1], int(sys.argv[2]) / 5e6, int(sys.argv[3]) / 
 print(f'{name:<12} {cli:10.1f} {http:10.1f} {pipe:10.1f} {100 * (http - cli) / cli:+7.1f}%')
 PY
 done
+
+echo
+echo "Connection bursts (scripts/burst-bench.py): 256 clients connecting at once, 6 rounds,"
+echo "with the library's old backlog of 5 and the default of 1024:"
+python3 "$here/scripts/burst-bench.py" --seamd "$seamd" --clients 256 --rounds 6 --backlogs 5,1024

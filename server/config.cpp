@@ -66,7 +66,7 @@ const std::vector<OptionSpec>& option_table() {
        ranged<unsigned>(0, 4096, [](ServerConfig& c, unsigned v) { c.http_threads = v; }),
        [](const ServerConfig& c) { return std::to_string(c.http_threads); }},
       {"backlog", "SEAMD_BACKLOG", "listen backlog for connection bursts (clamped to net.core.somaxconn)",
-       ranged<int>(16, 65535, [](ServerConfig& c, int v) { c.backlog = v; }),
+       ranged<int>(1, 65535, [](ServerConfig& c, int v) { c.backlog = v; }),
        [](const ServerConfig& c) { return std::to_string(c.backlog); }},
       {"max-body-bytes", "SEAMD_MAX_BODY_BYTES", "request body limit in bytes; larger is 413",
        ranged<std::size_t>(1024, 1ll << 40, [](ServerConfig& c, std::size_t v) { c.max_body_bytes = v; }),
