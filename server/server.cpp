@@ -289,7 +289,9 @@ struct Server::Impl {
     state->kind = request.kind;
     state->params = std::move(request.params);
     auto future = state->promise.get_future();
-    const api::PipelineLimits limits{.max_faces = config.max_faces};
+    const api::PipelineLimits limits{.max_faces = config.max_faces,
+                                     .max_extrema = config.max_extrema,
+                                     .threads = effective_threads_per_request(config)};
     {
       std::lock_guard lock(jobs_mutex);
       live_jobs.insert(state.get());
@@ -624,6 +626,7 @@ void Server::run() {
                                   {"queue", impl_->pool.queue_capacity()},
                                   {"http_threads", effective_http_threads(impl_->config)},
                                   {"backlog", impl_->http.effective_backlog()},
+                                  {"threads_per_request", effective_threads_per_request(impl_->config)},
                                   {"version", SEAM_VERSION},
                                   {"try", try_line()}}
                        .dump());

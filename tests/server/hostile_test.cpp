@@ -324,3 +324,28 @@ TEST_CASE("hostile: pipelining, strict header syntax, OPTIONS, TRACE and form bo
   }
   check_alive(seamd);
 }
+
+TEST_CASE("hostile: cost caps before any work: --max-extrema") {
+  Seamd seamd(limited_args({"--max-extrema", "8"}));
+  auto with_extrema = [&](std::size_t n) {
+    std::string list;
+    for (std::size_t i = 0; i < n; ++i) list += (i ? "," : "") + std::to_string(i);
+    return exchange(seamd.port(), multipart(sample_glb(), "{\"extrema\":[" + list + "]}"), 60s);
+  };
+  const auto refused = with_extrema(9);
+  CHECK(status_of(refused) == 422);
+  CHECK(error_code(refused) == "too_many_extrema");
+  CHECK(body_of(refused).find("--max-extrema") != std::string::npos);
+  CHECK(status_of(with_extrema(4)) == 200);
+  // 4,000 extrema (the 3 GB case of issue 10) are refused at once under the default of 256.
+  Seamd defaults(limited_args());
+  std::string list;
+  for (int i = 0; i < 4000; ++i) list += (i ? "," : "") + std::to_string(i);
+  const auto t0 = Clock::now();
+  const auto many = exchange(defaults.port(), multipart(sample_glb(), "{\"extrema\":[" + list + "]}"), 60s);
+  CHECK(status_of(many) == 422);
+  CHECK(error_code(many) == "too_many_extrema");
+  CHECK(Clock::now() - t0 < 5s);
+  CHECK(defaults.rss_kib() < 400 * 1024);
+  check_alive(seamd);
+}
