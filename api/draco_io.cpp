@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <type_traits>
 
@@ -73,11 +74,7 @@ draco::GeometryAttribute::Type draco_semantic(const std::string& gltf_name) {
 //     the attribute headers (types and component counts, no values yet): the decoded
 //     attribute bytes are checked before any attribute buffer is allocated.
 // So memory stays O(faces) with faces <= max_faces, and attribute memory is at most
-// 3 * faces * kMaxDracoBytesPerPoint.
-
-// Attribute bytes one point may carry once decoded: 32 float components, e.g. POSITION,
-// NORMAL, TANGENT, two TEXCOORDs, COLOR, JOINTS and WEIGHTS (96 bytes) with room to spare.
-constexpr std::size_t kMaxDracoBytesPerPoint = 128;
+// 3 * faces * max_draco_bytes_per_point.
 
 ApiError too_large(std::string message) { return make_api_error(ApiErrorCode::kMeshTooLarge, std::move(message)); }
 
@@ -162,9 +159,10 @@ class BoundedMeshDecoder : public Base {
       bytes_per_point += static_cast<std::size_t>(a->num_components()) *
                          static_cast<std::size_t>(std::max(0, draco::DataTypeLength(a->data_type())));
     }
-    if (bytes_per_point > kMaxDracoBytesPerPoint) {
+    if (bytes_per_point > limits_.max_draco_bytes_per_point) {
       refusal_ = too_large("the Draco attributes take " + std::to_string(bytes_per_point) +
-                           " bytes per point, more than the limit of " + std::to_string(kMaxDracoBytesPerPoint));
+                           " bytes per point, more than the limit of " +
+                           std::to_string(limits_.max_draco_bytes_per_point));
       return false;
     }
     return Base::DecodeAllAttributes();
@@ -349,6 +347,8 @@ ApiResult<EncodedDraco> encode_draco(std::span<const AttributeArray> attributes,
     ReadLimits limits;
     limits.max_faces = triangles.size() + 1;
     limits.max_vertices = n + 1;
+    // Our own output: as wide as the input's attributes (the limit is for hostile payloads).
+    limits.max_draco_bytes_per_point = std::numeric_limits<std::size_t>::max();
     auto check = decode_draco(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), limits);
     if (check.ok() && check->num_points == n && check->triangles.size() == triangles.size()) {
       if (!options.preserve_point_order) return std::move(encoded).value();

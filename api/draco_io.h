@@ -39,12 +39,12 @@ struct DracoMesh {
 /// payload claims before draco allocates by it: the connectivity header's face and point
 /// counts before the connectivity is decoded, then the real point count and every
 /// attribute's components and bytes before any attribute value is decoded. Memory is
-/// O(bytes + faces) with faces <= limits.max_faces, attributes at most 128 bytes per point and
-/// 3 points per face. Errors: kMalformedAsset (draco's status message; unknown encoding; not
+/// O(bytes + faces) with faces <= limits.max_faces, attributes at most
+/// limits.max_draco_bytes_per_point bytes per point and 3 points per face. Errors: kMalformedAsset (draco's status message; unknown encoding; not
 /// a mesh; an attribute with other than 1-4 components; a face index >= num_points),
 /// kNoTrianglePrimitive (a point cloud), kMeshTooLarge (more than limits.max_faces faces,
-/// more than limits.max_vertices points or 3 per face, more than 128 attribute bytes per
-/// point), kEmptyMesh (no faces). O(bytes + points + faces).
+/// more than limits.max_vertices points or 3 per face, more attribute bytes per point than
+/// limits.max_draco_bytes_per_point), kEmptyMesh (no faces). O(bytes + points + faces).
 ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const ReadLimits& limits = {});
 
 /// Reads attribute `unique_id` converted to `component_type` with `components` values per

@@ -28,6 +28,9 @@ struct ReadLimits {
   std::size_t max_vertices = 20'000'000;  ///< per accessor count (vertices, sparse entries)
   std::size_t max_faces = 5'000'000;      ///< triangles of the selected primitive (kMeshTooLarge)
   std::size_t max_json_bytes = 64u << 20;
+  /// Decoded Draco attribute bytes per point (all attributes): 32 float components, e.g.
+  /// POSITION, NORMAL, TANGENT, two TEXCOORDs, COLOR, JOINTS and WEIGHTS (96) with room.
+  std::size_t max_draco_bytes_per_point = 128;
 };
 
 /// A parsed asset: its JSON kept verbatim and its binary buffers resolved (GLB BIN chunk or

@@ -209,3 +209,27 @@ TEST_CASE("draco: honest meshes still decode, in both encodings, at the limits")
     CHECK(decode(bytes, exact).error().code == ApiErrorCode::kMeshTooLarge);
   }
 }
+
+TEST_CASE("draco: attributes wider than the read limit still encode (our output), and are refused on input") {
+  const auto sphere = fixtures::icosphere(1);
+  std::vector<float> xyz, wide;
+  for (const auto& p : sphere.positions) {
+    for (int c = 0; c < 3; ++c) xyz.push_back(static_cast<float>(p[c]));
+    for (int c = 0; c < 4; ++c) wide.push_back(static_cast<float>(c));
+  }
+  std::vector<AttributeArray> attributes = {make_float_attribute("POSITION", 3, xyz)};
+  for (int i = 0; i < 8; ++i) attributes.push_back(make_float_attribute("_WIDE_" + std::to_string(i), 4, wide));
+  // 12 + 8 * 16 = 140 bytes per point.
+  auto encoded = encode_draco(attributes, sphere.triangles);
+  REQUIRE_MESSAGE(encoded.ok(), (encoded.ok() ? "" : encoded.error().message));
+  const std::vector<std::uint8_t> bytes(encoded->bytes.begin(), encoded->bytes.end());
+  auto refused = decode(bytes);
+  REQUIRE(!refused.ok());
+  CHECK(refused.error().code == ApiErrorCode::kMeshTooLarge);
+  CHECK(refused.error().message == "the Draco attributes take 140 bytes per point, more than the limit of 128");
+  ReadLimits wider;
+  wider.max_draco_bytes_per_point = 140;
+  auto decoded = decode(bytes, wider);
+  REQUIRE(decoded.ok());
+  CHECK(decoded->attributes.size() == 9);
+}
