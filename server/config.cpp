@@ -8,6 +8,8 @@
 #include <string_view>
 #include <thread>
 
+#include "server/cgroup.h"
+
 namespace seam::server {
 namespace {
 
@@ -56,7 +58,10 @@ const std::vector<OptionSpec>& option_table() {
       {"port", "SEAMD_PORT", "TCP port (0 = ephemeral)",
        ranged<int>(0, 65535, [](ServerConfig& c, int v) { c.port = v; }),
        [](const ServerConfig& c) { return std::to_string(c.port); }},
-      {"workers", "SEAMD_WORKERS", "compute worker threads (0 = number of cores)",
+      {"health-port", "SEAMD_HEALTH_PORT", "second listener for /healthz and /readyz only (0 = none)",
+       ranged<int>(0, 65535, [](ServerConfig& c, int v) { c.health_port = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.health_port); }},
+      {"workers", "SEAMD_WORKERS", "compute worker threads (0 = CPUs available, cgroup quota included)",
        ranged<unsigned>(0, 1024, [](ServerConfig& c, unsigned v) { c.workers = v; }),
        [](const ServerConfig& c) { return std::to_string(c.workers); }},
       {"queue", "SEAMD_QUEUE", "jobs allowed to wait for a worker; beyond that 503 + Retry-After",
@@ -78,6 +83,9 @@ const std::vector<OptionSpec>& option_table() {
       {"max-faces", "SEAMD_MAX_FACES", "largest primitive in faces; larger is 422",
        ranged<std::size_t>(1, 1ll << 32, [](ServerConfig& c, std::size_t v) { c.max_faces = v; }),
        [](const ServerConfig& c) { return std::to_string(c.max_faces); }},
+      {"memory-limit-bytes", "SEAMD_MEMORY_LIMIT_BYTES", "memory for the jobs; lowers the face limit to fit (0 = cgroup limit)",
+       ranged<std::uint64_t>(0, 1ll << 50, [](ServerConfig& c, std::uint64_t v) { c.memory_limit_bytes = v; }),
+       [](const ServerConfig& c) { return std::to_string(c.memory_limit_bytes); }},
       {"max-extrema", "SEAMD_MAX_EXTREMA", "most extrema one request may name or detect; more is 422",
        ranged<std::size_t>(2, 100000, [](ServerConfig& c, std::size_t v) { c.max_extrema = v; }),
        [](const ServerConfig& c) { return std::to_string(c.max_extrema); }},
@@ -113,7 +121,7 @@ const std::vector<OptionSpec>& option_table() {
       {"keep-alive-timeout-s", "SEAMD_KEEP_ALIVE_TIMEOUT_S", "idle keep-alive timeout in seconds",
        ranged<int>(1, 3600, [](ServerConfig& c, int v) { c.keep_alive_timeout_s = v; }),
        [](const ServerConfig& c) { return std::to_string(c.keep_alive_timeout_s); }},
-      {"drain-timeout-s", "SEAMD_DRAIN_TIMEOUT_S", "on SIGTERM, cancel in-flight work after this",
+      {"drain-timeout-s", "SEAMD_DRAIN_TIMEOUT_S", "on SIGTERM, cancel work still running after this (0 = budget + 5 s)",
        ranged<int>(0, 3600, [](ServerConfig& c, int v) { c.drain_timeout_s = v; }),
        [](const ServerConfig& c) { return std::to_string(c.drain_timeout_s); }},
       {"retry-after-s", "SEAMD_RETRY_AFTER_S", "Retry-After seconds of a 503",
@@ -196,7 +204,7 @@ std::string help_text() {
 
 unsigned effective_workers(const ServerConfig& config) {
   if (config.workers > 0) return config.workers;
-  return std::max(1u, std::thread::hardware_concurrency());
+  return available_cpus();
 }
 
 unsigned effective_http_threads(const ServerConfig& config) {
@@ -210,7 +218,32 @@ unsigned effective_http_threads(const ServerConfig& config) {
 
 unsigned effective_threads_per_request(const ServerConfig& config) {
   if (config.threads_per_request > 0) return config.threads_per_request;
-  return std::max(1u, std::max(1u, std::thread::hardware_concurrency()) / effective_workers(config));
+  return std::max(1u, available_cpus() / effective_workers(config));
+}
+
+std::uint64_t effective_memory_limit(const ServerConfig& config) {
+  if (config.memory_limit_bytes > 0) return config.memory_limit_bytes;
+  return cgroup_memory_limit().value_or(0);
+}
+
+std::uint64_t effective_inflight_bytes(const ServerConfig& config) {
+  const std::uint64_t limit = effective_memory_limit(config);
+  return limit == 0 ? config.max_inflight_bytes : std::min(config.max_inflight_bytes, limit / 4);
+}
+
+std::size_t effective_max_faces(const ServerConfig& config) {
+  const std::uint64_t limit = effective_memory_limit(config);
+  if (limit == 0) return config.max_faces;
+  const std::uint64_t workers = effective_workers(config);
+  const std::uint64_t fixed = kServerBaseBytes + effective_inflight_bytes(config) + workers * kJobBaseBytes;
+  const std::uint64_t per_job = limit > fixed ? (limit - fixed) / workers : 0;
+  const std::uint64_t fit = per_job / kJobBytesPerFace;
+  return static_cast<std::size_t>(std::max<std::uint64_t>(1, std::min<std::uint64_t>(config.max_faces, fit)));
+}
+
+int effective_drain_timeout_s(const ServerConfig& config) {
+  if (config.drain_timeout_s > 0) return config.drain_timeout_s;
+  return static_cast<int>((config.time_budget.count() + 999) / 1000) + 5;
 }
 
 }  // namespace seam::server

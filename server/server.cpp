@@ -59,7 +59,7 @@ FrontConfig front_config(const ServerConfig& c) {
                      .idle_timeout = std::chrono::seconds(c.keep_alive_timeout_s),
                      .io_timeout = std::chrono::seconds(std::max(c.read_timeout_s, c.write_timeout_s)),
                      .backlog = c.backlog,
-                     .max_inflight_bytes = c.max_inflight_bytes};
+                     .max_inflight_bytes = effective_inflight_bytes(c)};
 }
 
 // How often a waiting handler looks at its client: a client that went away cancels its job
@@ -104,6 +104,7 @@ struct Server::Impl {
         pool(effective_workers(config), config.queue),
         http(front_config(config), front_hooks()),
         rng(std::random_device{}()) {
+    configure_health();
     auto sink = std::make_shared<spdlog::sinks::stdout_sink_mt>();
     // Not registered globally: several servers (tests) can coexist with their own levels.
     log = std::make_shared<spdlog::logger>("seamd", std::move(sink));
@@ -118,11 +119,19 @@ struct Server::Impl {
   WorkerPool pool;
   Metrics metrics;
   FrontServer http;
+  // --health-port: /healthz and /readyz on a listener and threads of their own, so probes are
+  // answered whatever the traffic port's clients do.
+  std::unique_ptr<FrontServer> health;
+  std::thread health_thread;
+  int health_bound_port = -1;
   std::shared_ptr<spdlog::logger> log;
   int bound_port = -1;
 
   std::atomic<bool> draining{false};
   std::atomic<std::size_t> in_flight{0};
+  std::atomic<std::int64_t> full_since_ns{0};  ///< steady clock; 0 = the pool was not full at the last probe
+  const int drain_s = effective_drain_timeout_s(config);
+  const std::size_t max_faces = effective_max_faces(config);
 
   std::mutex rng_mutex;
   std::mt19937_64 rng;
@@ -289,7 +298,7 @@ struct Server::Impl {
     state->kind = request.kind;
     state->params = std::move(request.params);
     auto future = state->promise.get_future();
-    const api::PipelineLimits limits{.max_faces = config.max_faces,
+    const api::PipelineLimits limits{.max_faces = max_faces,
                                      .max_extrema = config.max_extrema,
                                      .threads = effective_threads_per_request(config)};
     {
@@ -387,8 +396,8 @@ struct Server::Impl {
   ApiError drain_error() const {
     return make_api_error(ApiErrorCode::kTimeout,
                           "the server is shutting down and the job was still running when the drain of " +
-                              std::to_string(config.drain_timeout_s) + " s ended (--drain-timeout-s); retry on another replica",
-                          {{"drain_timeout_s", config.drain_timeout_s}});
+                              std::to_string(drain_s) + " s ended (--drain-timeout-s); retry on another replica",
+                          {{"drain_timeout_s", drain_s}});
   }
 
   ApiError budget_error() const {
@@ -412,11 +421,26 @@ struct Server::Impl {
                          .draining = draining.load()};
   }
 
+  // Readiness is "can take work soon", not "a worker is idle": a full pool answers its own
+  // 503 + Retry-After, which the front retries elsewhere, and a pod that left the Service
+  // whenever its queue filled would flap (jobs take 30-500 ms, probes come every 5 s) and,
+  // with every pod busy, leave clients with connection errors. So only a drain, or a pool
+  // that stayed full across probes for longer than a whole time budget (wedged, or overloaded
+  // far beyond its queue), takes the pod out.
   void handle_readyz(httplib::Response& res) {
     const auto g = gauges();
     const bool full = pool.full();
-    const char* status = draining ? "draining" : full ? "busy" : "ready";
-    res.status = (draining || full) ? 503 : 200;
+    const auto now = Clock::now();
+    std::int64_t since = full_since_ns.load();
+    if (!full) {
+      full_since_ns = 0;
+    } else if (since == 0) {
+      since = now.time_since_epoch().count();
+      full_since_ns = since;
+    }
+    const bool stuck = full && now - Clock::time_point(Clock::duration(since)) > config.time_budget;
+    const char* status = draining ? "draining" : stuck ? "overloaded" : full ? "busy" : "ready";
+    res.status = (draining || stuck) ? 503 : 200;
     res.set_content(nlohmann::json{{"status", status},
                                    {"queue_depth", g.queue_depth},
                                    {"busy_workers", g.busy_workers},
@@ -529,10 +553,7 @@ struct Server::Impl {
 
     http.Post("/seam", [this](const httplib::Request& req, httplib::Response& res) { handle_seam(req, res); });
     method_not_allowed("/seam", "POST");
-    http.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
-      res.set_content(R"({"status":"ok"})", kJsonType);
-    });
-    http.Get("/readyz", [this](const httplib::Request&, httplib::Response& res) { handle_readyz(res); });
+    add_probes(http);
     http.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
       res.set_content(metrics.render(gauges()), "text/plain; version=0.0.4; charset=utf-8");
     });
@@ -540,6 +561,25 @@ struct Server::Impl {
       res.set_content(version_info().dump(), kJsonType);
     });
     for (const char* path : {"/healthz", "/readyz", "/metrics", "/version"}) method_not_allowed(path, "GET, HEAD");
+  }
+
+  void add_probes(FrontServer& server) {
+    server.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(R"({"status":"ok"})", kJsonType);
+    });
+    server.Get("/readyz", [this](const httplib::Request&, httplib::Response& res) { handle_readyz(res); });
+  }
+
+  void configure_health() {
+    if (config.health_port == 0) return;
+    FrontConfig fc = front_config(config);
+    fc.request_timeout = std::chrono::seconds(5);
+    fc.head.max_body_bytes = 1024;
+    fc.backlog = 128;
+    health = std::make_unique<FrontServer>(fc, FrontServer::Hooks{});
+    health->set_tcp_nodelay(true);
+    health->new_task_queue = [] { return new httplib::ThreadPool(4); };
+    add_probes(*health);
   }
 
   void log_request(const httplib::Request& req, const httplib::Response& res) {
@@ -579,7 +619,7 @@ struct Server::Impl {
   void start_drain_watchdog() {
     drain_watchdog = std::thread([this] {
       std::unique_lock lock(jobs_mutex);
-      const auto limit = std::chrono::seconds(config.drain_timeout_s);
+      const auto limit = std::chrono::seconds(drain_s);
       if (!jobs_done.wait_for(lock, limit, [this] { return live_jobs.empty(); })) {
         log->warn(nlohmann::json{{"event", "drain_timeout"}, {"cancelled_jobs", live_jobs.size()}}.dump());
         for (auto* s : live_jobs) {
@@ -607,6 +647,14 @@ api::ApiResult<int> Server::bind() {
                           "cannot listen on " + c.bind + ":" + std::to_string(c.port) + " (address in use or invalid)");
   }
   impl_->bound_port = port;
+  if (impl_->health) {
+    impl_->health_bound_port = impl_->health->bind_with_backlog(c.bind, c.health_port);
+    if (impl_->health_bound_port < 0) {
+      return make_api_error(ApiErrorCode::kInternal,
+                            "cannot listen on " + c.bind + ":" + std::to_string(c.health_port) +
+                                " for --health-port (address in use or invalid)");
+    }
+  }
   return port;
 }
 
@@ -627,9 +675,14 @@ void Server::run() {
                                   {"http_threads", effective_http_threads(impl_->config)},
                                   {"backlog", impl_->http.effective_backlog()},
                                   {"threads_per_request", effective_threads_per_request(impl_->config)},
+                                  {"health_port", impl_->health_bound_port},
+                                  {"max_faces", impl_->max_faces},
+                                  {"memory_limit_bytes", effective_memory_limit(impl_->config)},
+                                  {"drain_timeout_s", impl_->drain_s},
                                   {"version", SEAM_VERSION},
                                   {"try", try_line()}}
                        .dump());
+  if (impl_->health) impl_->health_thread = std::thread([this] { impl_->health->listen_after_bind(); });
   // Returns once stop() closed the listening socket and the connection threads finished
   // their requests (httplib joins its pool), so every in-flight client has its answer.
   impl_->http.listen_after_bind();
@@ -644,6 +697,11 @@ void Server::run() {
       impl_->drain_watchdog.join();
     }
   }
+  // Liveness is answered to the end: the probe listener stops last.
+  if (impl_->health) {
+    impl_->health->stop();
+    if (impl_->health_thread.joinable()) impl_->health_thread.join();
+  }
   impl_->log->info(nlohmann::json{{"event", "stopped"}}.dump());
   impl_->log->flush();
 }
@@ -653,12 +711,13 @@ void Server::shutdown() {
   if (impl_->draining.exchange(true)) return;
   impl_->log->info(nlohmann::json{{"event", "draining"}, {"in_flight", impl_->in_flight.load()}}.dump());
   impl_->start_drain_watchdog();
-  impl_->http.begin_drain(Clock::now() + std::chrono::seconds(impl_->config.drain_timeout_s));
+  impl_->http.begin_drain(Clock::now() + std::chrono::seconds(impl_->drain_s));
   impl_->http.stop();
 }
 
 bool Server::is_running() const { return impl_->http.is_running(); }
 int Server::port() const { return impl_->bound_port; }
+int Server::health_port() const { return impl_->health_bound_port; }
 const ServerConfig& Server::config() const { return impl_->config; }
 const Metrics& Server::metrics() const { return impl_->metrics; }
 

@@ -49,6 +49,8 @@ class Server {
   /// True between the start of run() and the end of the accept loop.
   bool is_running() const;
   int port() const;
+  /// The bound --health-port (-1 when there is none).
+  int health_port() const;
   /// A shell line that makes the sample and posts it to this server (printed at start).
   std::string try_line() const;
   const ServerConfig& config() const;

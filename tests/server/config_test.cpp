@@ -1,5 +1,6 @@
 // seamd's configuration: flags over environment over defaults, every value range-checked.
 #include "server/config.h"
+#include "server/cgroup.h"
 
 #include <doctest/doctest.h>
 
@@ -96,4 +97,48 @@ TEST_CASE("config: --help lists every flag with its environment variable") {
     CAPTURE(pair);
     CHECK(text.find(pair) != std::string::npos);
   }
+}
+
+TEST_CASE("config: cgroup quota and memory limit parsing (v2 and v1)") {
+  using namespace seam::server;
+  CHECK(parse_cpu_max("max 100000\n") == std::nullopt);
+  CHECK(parse_cpu_max("200000 100000\n") == std::optional<double>(2.0));
+  CHECK(parse_cpu_max("150000 100000") == std::optional<double>(1.5));
+  CHECK(parse_cpu_max("garbage") == std::nullopt);
+  CHECK(parse_cfs_quota("-1\n", "100000\n") == std::nullopt);
+  CHECK(parse_cfs_quota("50000\n", "100000\n") == std::optional<double>(0.5));
+  CHECK(parse_memory_limit("max\n") == std::nullopt);
+  CHECK(parse_memory_limit("9223372036854771712\n") == std::nullopt);  // v1's "no limit"
+  CHECK(parse_memory_limit("4294967296\n") == std::optional<std::uint64_t>(4294967296ull));
+  CHECK(available_cpus() >= 1);
+}
+
+TEST_CASE("config: the face limit follows the memory limit; the drain covers the budget") {
+  using namespace seam::server;
+  ServerConfig c;
+  c.workers = 2;
+  c.memory_limit_bytes = 0;
+  c.max_faces = 5'000'000;
+  if (!cgroup_memory_limit()) CHECK(effective_max_faces(c) == 5'000'000);  // no limit: as configured
+  c.memory_limit_bytes = 4ull << 30;
+  const auto fit = effective_max_faces(c);
+  // Two jobs of `fit` faces plus the bases fit in 4 GiB, two of fit + 1% do not.
+  CHECK(effective_inflight_bytes(c) == 1ull << 30);  // a quarter of the limit, below the 4 GiB default
+  const auto need = [&](std::size_t faces) {
+    return kServerBaseBytes + effective_inflight_bytes(c) + 2 * (kJobBaseBytes + faces * kJobBytesPerFace);
+  };
+  CHECK(need(fit) <= c.memory_limit_bytes);
+  CHECK(need(fit + fit / 100 + 1) > c.memory_limit_bytes);
+  c.memory_limit_bytes = 64ull << 40;
+  CHECK(effective_max_faces(c) == 5'000'000);  // never above --max-faces
+  c.memory_limit_bytes = 1;
+  CHECK(effective_max_faces(c) == 1);          // nothing fits: every mesh is a 422, never an OOM
+
+  c.drain_timeout_s = 0;
+  c.time_budget = std::chrono::milliseconds(60'000);
+  CHECK(effective_drain_timeout_s(c) == 65);
+  c.time_budget = std::chrono::milliseconds(1'500);
+  CHECK(effective_drain_timeout_s(c) == 7);
+  c.drain_timeout_s = 3;
+  CHECK(effective_drain_timeout_s(c) == 3);
 }

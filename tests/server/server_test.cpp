@@ -8,6 +8,7 @@
 #include <future>
 #include <vector>
 
+#include "seamd_process.h"
 #include "server_harness.h"
 
 namespace {
@@ -334,25 +335,65 @@ TEST_CASE("a full pool answers 503 with Retry-After at once; nothing is lost") {
   CHECK(ready->status == 200);
 }
 
-TEST_CASE("/readyz turns 503 while the pool is full") {
+TEST_CASE("/readyz stays 200 (busy) while the pool is full; 503 once full for longer than the budget") {
   auto config = test_config();
   config.workers = 1;
   config.queue = 0;
+  config.time_budget = std::chrono::milliseconds(600);
+  config.health_port = 0;
   RunningServer srv(config, ScriptedJob{}.job());
-  auto running = std::async(std::launch::async, [&srv] { return srv.client()->Post("/seam", "sleep:800", "model/gltf-binary"); });
-  bool saw_busy = false;
-  for (int i = 0; i < 100 && !saw_busy; ++i) {
+  // The job ignores its token and runs past its budget: the pool stays full for > 600 ms.
+  auto running = std::async(std::launch::async, [&srv] { return srv.client()->Post("/seam", "hang:1500", "model/gltf-binary"); });
+  bool saw_busy = false, saw_overloaded = false;
+  for (int i = 0; i < 300 && !saw_overloaded; ++i) {
     auto r = srv.client()->Get("/readyz");
     REQUIRE(r);
-    if (r->status == 503) {
-      saw_busy = parse(r->body)["status"] == "busy";
+    const auto status = parse(r->body)["status"];
+    if (status == "busy") {
+      saw_busy = true;
+      CHECK(r->status == 200);  // a busy pod stays in the Service: its 503 + Retry-After is the backpressure
+    }
+    if (status == "overloaded") {
+      saw_overloaded = true;
+      CHECK(r->status == 503);
     }
     std::this_thread::sleep_for(5ms);
   }
   CHECK(saw_busy);
-  auto done = running.get();
-  REQUIRE(done);
-  CHECK(done->status == 200);
+  CHECK(saw_overloaded);
+  running.get();
+  // Free again: ready.
+  for (int i = 0; i < 200; ++i) {
+    auto r = srv.client()->Get("/readyz");
+    if (r && r->status == 200 && parse(r->body)["status"] == "ready") break;
+    std::this_thread::sleep_for(10ms);
+  }
+  auto r = srv.client()->Get("/readyz");
+  REQUIRE(r);
+  CHECK(r->status == 200);
+}
+
+TEST_CASE("--health-port answers /healthz and /readyz on its own listener") {
+  auto config = test_config();
+  config.health_port = 0;
+  {
+    RunningServer srv(config);
+    CHECK(srv.server().health_port() == -1);
+  }
+  const int probe_port = seam::test_process::free_port();
+  config.health_port = probe_port;
+  RunningServer srv(config);
+  CHECK(srv.server().health_port() == probe_port);
+  httplib::Client probe("127.0.0.1", probe_port);
+  auto h = probe.Get("/healthz");
+  REQUIRE(h);
+  CHECK(h->status == 200);
+  auto r = probe.Get("/readyz");
+  REQUIRE(r);
+  CHECK(r->status == 200);
+  auto seam = probe.Post("/seam", "x", "model/gltf-binary");
+  REQUIRE(seam);
+  CHECK(seam->status == 404);  // probes only
 }
 
 TEST_CASE("time budget: 504, and the worker is free for the next request") {
@@ -426,7 +467,7 @@ TEST_CASE("shutdown: no new work, in-flight requests complete, run() returns") {
 
 TEST_CASE("shutdown: work still running after the drain timeout is cancelled with 504") {
   auto config = test_config();
-  config.drain_timeout_s = 0;
+  config.drain_timeout_s = 1;  // 0 would mean "the time budget + 5 s"
   ScriptedJob scripted;
   RunningServer srv(config, scripted.job());
   auto job = std::async(std::launch::async, [&srv] { return srv.client()->Post("/seam", "sleep:30000", "model/gltf-binary"); });
@@ -438,4 +479,5 @@ TEST_CASE("shutdown: work still running after the drain timeout is cancelled wit
   auto r = job.get();
   REQUIRE(r);
   CHECK(r->status == 504);
+  CHECK(r->body.find("drain") != std::string::npos);  // the message names the drain, not the budget
 }
