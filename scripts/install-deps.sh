@@ -30,9 +30,13 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-if [[ "${1:-}" == "--test" && ! -x "$root/tests/node_modules/.bin/gltf_validator" && -f "$root/tests/package.json" ]]; then
-  if [[ ! -d "$root/tests/node_modules/gltf-validator" ]]; then
-    echo "installing npm test tools into tests/node_modules"
-    (cd "$root/tests" && npm install --no-audit --no-fund --loglevel=error)
-  fi
+# npm test tools (tests/package.json): the glTF-Validator, Kubernetes schemas, a YAML parser.
+if [[ "${1:-}" == "--test" && -f "$root/tests/package.json" ]]; then
+  for module in gltf-validator kubernetes-models yaml; do
+    if [[ ! -d "$root/tests/node_modules/$module" ]]; then
+      echo "installing npm test tools into tests/node_modules"
+      (cd "$root/tests" && npm install --no-audit --no-fund --loglevel=error)
+      break
+    fi
+  done
 fi
