@@ -1,6 +1,8 @@
 # seamd: the seam service. Multi-stage: build on Debian bookworm, run on bookworm-slim as a
-# non-root user. Build: buildah build --format docker --pull=never -t seamd:latest .
-# (see scripts/container-check.sh; --format docker keeps the HEALTHCHECK).
+# non-root user. Build: buildah build --format docker --pull=never -t localhost/seamd:0.1.0 .
+# (scripts/container-check.sh makes the debian:bookworm-slim base and the podman settings this
+# needs here; after it, `source /var/tmp/seam-containers/env.sh` first. --format docker keeps
+# the HEALTHCHECK).
 
 FROM debian:bookworm-slim AS build
 RUN apt-get update \

@@ -3,12 +3,23 @@
 # checks non-root + HEALTHCHECK + SIGTERM exit 0, and validates docker/compose.yaml and
 # docker/k8s/*.yaml offline. Not part of the test command (minutes, needs podman/buildah).
 #
-#   scripts/container-check.sh [--compose-up]
+#   scripts/container-check.sh [--compose-up] [--clean]
 #
-# --compose-up also starts docker/compose.yaml (3 replicas + nginx) through a podman API
-# socket, runs the smoke test through the load balancer and shows the round-robin.
-# Facts this follows: ../shared/notes/containers.md (no registry: debootstrap base image;
-# runc + cgroupfs + vfs through CONTAINERS_CONF / CONTAINERS_STORAGE_CONF; nothing in /etc).
+# --compose-up also starts docker/compose.yaml (replicas + nginx) through a podman API
+# socket, runs the smoke test through the load balancer, counts which replicas answered
+# (from nginx's access log), and measures req/s through nginx with 1 and with 2 replicas.
+# --clean removes the state folder (images, containers, ~6 GB) and exits.
+#
+# Prerequisites (installed here when missing, from Debian): podman buildah runc
+# docker-compose debootstrap yamllint curl wrk; node + npm for the manifest schemas
+# (scripts/install-deps.sh --test).
+#
+# This machine kind has no container registry and hybrid cgroups, so: the base image is made
+# with debootstrap and imported as debian:bookworm-slim; podman runs with runc, cgroupfs and
+# the vfs driver; all of that is configured by files in the state folder named through
+# CONTAINERS_CONF / CONTAINERS_STORAGE_CONF, nothing under /etc changes. The state folder
+# (SEAM_CONTAINER_STATE, default /var/tmp/seam-containers) keeps the images between runs; to
+# use them afterwards: `source /var/tmp/seam-containers/env.sh && podman images`.
 set -uo pipefail
 
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -16,10 +27,23 @@ cd "$here"
 state="${SEAM_CONTAINER_STATE:-/var/tmp/seam-containers}"
 mirror="${DEBIAN_MIRROR:-$(grep -rhoE '^(URIs:|deb) +https?://[^ ]+/debian/?( |$)' /etc/apt/sources.list /etc/apt/sources.list.d/ 2>/dev/null | head -1 | awk '{print $2}')}"
 mirror="${mirror:-http://deb.debian.org/debian}"
-image="localhost/seamd:test"
+version="$(sed -n 's/^project(seam_service VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)"
+image="localhost/seamd:$version"
 port="${SEAM_CHECK_PORT:-18080}"
 compose_up=0
-[[ "${1:-}" == "--compose-up" ]] && compose_up=1
+for arg in "$@"; do
+  case "$arg" in
+    --compose-up) compose_up=1 ;;
+    --clean)
+      if [[ -d "$state" ]]; then
+        CONTAINERS_CONF="$state/containers.conf" CONTAINERS_STORAGE_CONF="$state/storage.conf" \
+          podman system reset --force > /dev/null 2>&1
+        rm -rf "$state"
+      fi
+      echo "container-check: removed $state"; exit 0 ;;
+    *) echo "usage: scripts/container-check.sh [--compose-up] [--clean]"; exit 2 ;;
+  esac
+done
 failures=0
 step() { printf '\n== %s\n' "$*"; }
 ok() { printf 'ok    %s\n' "$*"; }
@@ -41,10 +65,19 @@ graphroot = "$state/storage"
 runroot = "$state/run"
 EOF
 export CONTAINERS_CONF="$state/containers.conf" CONTAINERS_STORAGE_CONF="$state/storage.conf"
+printf 'export CONTAINERS_CONF=%q CONTAINERS_STORAGE_CONF=%q\n' "$CONTAINERS_CONF" "$CONTAINERS_STORAGE_CONF" > "$state/env.sh"
 
-for tool in podman buildah docker-compose debootstrap yamllint curl; do
-  command -v "$tool" > /dev/null || { echo "container-check: $tool missing (apt-get install podman buildah docker-compose debootstrap yamllint curl)"; exit 2; }
+missing=()
+for pkg in podman buildah runc docker-compose debootstrap yamllint curl wrk; do
+  dpkg-query -W -f='${Status}' "$pkg" 2> /dev/null | grep -q "install ok installed" || missing+=("$pkg")
 done
+if ((${#missing[@]})); then
+  step "installing ${missing[*]}"
+  sudo_cmd=()
+  [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq && DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq \
+    --no-install-recommends "${missing[@]}" > "$state/apt.log" 2>&1 || { bad "apt-get install failed ($state/apt.log)"; exit 2; }
+fi
 
 # --- base image ---------------------------------------------------------------------------
 step "base image debian:bookworm-slim (debootstrap, no registry)"
@@ -106,57 +139,57 @@ step "compose + Kubernetes manifests, offline"
 if docker-compose -f docker/compose.yaml config -q; then ok "docker-compose config -q docker/compose.yaml"; else bad "compose file invalid"; fi
 lint_conf='{extends: default, rules: {line-length: {max: 120}, document-start: disable, truthy: {check-keys: false}}}'
 if yamllint -d "$lint_conf" docker/compose.yaml docker/k8s/*.yaml; then ok "yamllint docker/compose.yaml docker/k8s/*.yaml"; else bad "yamllint"; fi
-tools="$here/.cache/node-tools"
-if [[ ! -d "$tools/node_modules/kubernetes-models" ]] && command -v npm > /dev/null; then
-  npm install --silent --prefix "$tools" kubernetes-models js-yaml > /dev/null 2>&1 || true
-fi
-if [[ -d "$tools/node_modules/kubernetes-models" ]]; then
-  if NODE_PATH="$tools/node_modules" node - docker/k8s/*.yaml <<'JS'
-const fs = require('fs');
-const yaml = require('js-yaml');
-const kinds = {
-  Deployment: () => require('kubernetes-models/apps/v1/Deployment').Deployment,
-  Service: () => require('kubernetes-models/v1/Service').Service,
-  HorizontalPodAutoscaler: () => require('kubernetes-models/autoscaling/v2/HorizontalPodAutoscaler').HorizontalPodAutoscaler,
-};
-let errors = 0;
-for (const file of process.argv.slice(2)) {
-  for (const doc of yaml.loadAll(fs.readFileSync(file, 'utf8'))) {
-    if (!doc) continue;
-    try {
-      if (!kinds[doc.kind]) throw new Error('no schema for kind ' + doc.kind);
-      new (kinds[doc.kind]())(doc).validate();
-      console.log(`      ${file}: ${doc.kind} ${doc.metadata.name} valid`);
-    } catch (e) { errors++; console.log(`      ${file}: ${doc.kind}: ${e.message}`); }
-  }
-}
-process.exit(errors ? 1 : 0);
-JS
-  then ok "Kubernetes manifests valid (kubernetes-models schemas)"; else bad "Kubernetes manifest validation"; fi
+if [[ -d tests/node_modules/kubernetes-models ]] || (cd tests && npm install --no-audit --no-fund --loglevel=error > /dev/null 2>&1); then
+  if node tests/validate_k8s.mjs docker/k8s/*.yaml | sed 's/^/      /'; then
+    ok "Kubernetes manifests valid (API schemas, npm kubernetes-models)"
+  else
+    bad "Kubernetes manifest validation"
+  fi
 else
-  echo "      (kubernetes-models not installable here: manifests checked by yamllint only)"
+  bad "npm install in tests/ failed: manifests not validated against the schemas"
 fi
 
 # --- optional: compose up ------------------------------------------------------------------
 if (( compose_up )); then
-  step "docker-compose up: 3 replicas behind nginx (podman API socket)"
+  step "docker-compose up: replicas behind nginx (podman API socket)"
   sock="$state/podman.sock"
   podman system service --time=0 "unix://$sock" > "$state/service.log" 2>&1 &
   svc=$!
   for _ in $(seq 1 50); do [[ -S "$sock" ]] && break; sleep 0.1; done
   export DOCKER_HOST="unix://$sock"
-  podman tag "$image" localhost/seamd:latest
-  if docker-compose --compatibility -f docker/compose.yaml up -d --build > "$state/compose.log" 2>&1; then
-    for _ in $(seq 1 100); do curl -fsS "http://127.0.0.1:8080/healthz" > /dev/null 2>&1 && break; sleep 0.2; done
-    SAMPLE="$state/sample.glb" "$here/scripts/smoke.sh" "http://127.0.0.1:8080" && ok "smoke through nginx" || bad "smoke through nginx"
-    echo "      replicas: $(podman ps --format '{{.Names}}' | grep -c seamd_) running"
-  else
-    bad "docker-compose up failed"; tail -20 "$state/compose.log"
-  fi
-  docker-compose --compatibility -f docker/compose.yaml down > /dev/null 2>&1
+  compose=(docker-compose --compatibility -f docker/compose.yaml)
+  glb="$state/sample.glb"
+  for replicas in 3 1 2; do
+    if ! "${compose[@]}" up -d --build --scale "seamd=$replicas" > "$state/compose.log" 2>&1; then
+      bad "docker-compose up ($replicas replicas) failed"; tail -20 "$state/compose.log"; break
+    fi
+    up=0
+    for _ in $(seq 1 150); do curl -fsS "http://127.0.0.1:8080/healthz" > /dev/null 2>&1 && up=1 && break; sleep 0.2; done
+    (( up )) || { bad "nginx did not answer with $replicas replicas"; continue; }
+    sleep 2  # every replica up
+    if (( replicas == 3 )); then
+      SAMPLE="$glb" "$here/scripts/smoke.sh" "http://127.0.0.1:8080" && ok "smoke through nginx" || bad "smoke through nginx"
+      for _ in $(seq 1 30); do curl -fsS -o /dev/null -F "mesh=@$glb" 'http://127.0.0.1:8080/seam?method=mst&uv=none'; done
+      lb=$(podman ps --format '{{.Names}}' | grep -m1 '_lb_')
+      answered=$(podman exec "$lb" cat /var/log/nginx/access.log 2> /dev/null | grep '"uri":"/seam' |
+                 grep -o '"upstream":"[^"]*"' | sort | uniq -c | sed 's/"upstream"://')
+      distinct=$(printf '%s\n' "$answered" | grep -c . || true)
+      echo "      seam requests per upstream replica (nginx access log):"; printf '%s\n' "$answered" | sed 's/^/      /'
+      (( distinct == 3 )) && ok "round-robin: all 3 replicas answered seam requests" || bad "round-robin: $distinct of 3 replicas answered"
+    else
+      cat > "$state/post.lua" <<LUA
+local f = assert(io.open("$glb", "rb")); wrk.method = "POST"; wrk.body = f:read("*a"); f:close()
+wrk.headers["Content-Type"] = "model/gltf-binary"
+LUA
+      rps=$(wrk -t2 -c8 -d15s -s "$state/post.lua" 'http://127.0.0.1:8080/seam?method=mst&uv=none' 2>&1 | awk '/Requests\/sec/ {print $2}')
+      ok "through nginx with $replicas replica(s) of 2 workers: ${rps:-?} req/s (wrk, 8 connections, 15 s, sample, mst)"
+    fi
+  done
+  "${compose[@]}" down > /dev/null 2>&1
   kill "$svc" 2> /dev/null
 fi
 
 echo
 if (( failures > 0 )); then echo "container-check: $failures failure(s)"; exit 1; fi
-echo "container-check: all checks passed"
+echo "container-check: all checks passed (images in $state: source $state/env.sh && podman images;"
+echo "remove them with scripts/container-check.sh --clean)"
