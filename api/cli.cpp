@@ -1,143 +1,241 @@
-// `seamd seam` and `seamd sample`: the batch mode an asset pipeline uses without HTTP.
+// `seamd seam`, `seamd sample`, `--version` and the usage text; `seamd batch` is in
+// api/cli_batch.cpp, the shared parsing and IO in api/cli_common.cpp.
 #include "api/cli.h"
 
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "api/gltf_writer.h"
-#include "api/mesh_io.h"
+#include "api/cli_common.h"
 #include "api/pipeline.h"
 #include "api/sample_mesh.h"
 
 namespace seam::api {
+
+// Defined in api/cli_batch.cpp.
+int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const CliContext& context);
+
 namespace {
 
-constexpr const char* kUsage =
-    "usage:\n"
-    "  seamd seam --mesh FILE(.off|.obj|.glb|.gltf|.drc) [--extrema i,j,k|auto] [--method skeleton|mst|greedy|optimal]\n"
-    "             [--uv slim|arap|bff|lscm|none] [--weld-epsilon X] [--mesh-index N] [--primitive N]\n"
-    "             [--out cut.glb] [--draco]\n"
-    "  seamd sample --out sample.glb";
+using nlohmann::json;
 
-int fail(std::ostream& err, const ApiError& error, int code) {
-  err << error_body(error).dump(2) << "\n";
-  return code;
+constexpr const char* kUsage = R"(usage:
+  seamd seam IN [OUT] [flags]            cut one asset
+  seamd batch IN... --out-dir DIR [flags] cut many assets in parallel
+  seamd sample [OUT]                     write the bundled starfish sample (5120 faces, 5 arms)
+  seamd --version                        print the version
+  seamd [serve flags]                    the HTTP service (seamd --help lists its flags)
+
+IN   .glb, .gltf (buffers as data URIs), .drc, .obj or .off; - reads stdin. The format comes
+     from the content (an OBJ that starts with no statement falls back to the .obj name).
+OUT  the cut asset: a GLB (or the HTTP JSON body with --output json); - or /dev/stdout
+     writes it to stdout and nothing else goes there. Checked before any work: a directory,
+     a missing or read-only directory is refused with exit 2. Without OUT only the summary
+     is printed. Written through a temporary file renamed over OUT.
+
+seam flags
+  --mesh FILE            the same as IN (kept for existing scripts; HTTP's `mesh` is
+                         the mesh index: --mesh-index)
+  --out FILE             the same as OUT (kept for existing scripts)
+  --report FILE          write the JSON summary to FILE instead of stdout
+  --params JSON|@FILE    API parameters as the HTTP JSON body's object (or read from FILE);
+                         flags override it key by key
+  --threads N            threads for the job (default: every core)
+  -h, --help             this text on stdout, exit 0
+  --version              seamd's version on stdout, exit 0
+
+API parameters (the HTTP parameters, same names and rules; api/README.md "Parameters")
+  --extrema auto|I,J,K|JSON   vertex indices, or the JSON array/object forms
+  --method skeleton|mst|greedy|optimal
+  --uv slim|arap|bff|lscm|none
+  --refine [true|false]       --no-refine is --refine false
+  --draco [true|false]        --no-draco; default: as the input
+  --repair [true|false]       --no-repair
+  --weld-epsilon X
+  --mesh-index N              HTTP's `mesh`: which mesh of the asset
+  --primitive N
+  --primitives all|JSON
+  --output glb|json           what OUT receives (default glb)
+  --NAME VALUE                any other parameter: key NAME with - as _, VALUE as JSON if
+                              it parses, else as a string
+  Each flag once; --flag VALUE or --flag=VALUE.
+
+batch flags (the API parameters above apply to every asset)
+  IN...                  files, and folders searched recursively for .glb .gltf .drc .obj .off
+  --out-dir DIR          outputs as DIR/<path below the folder, or file name>.glb (created)
+  --workers N            assets processed at once (default: every core)
+  --threads N            threads per asset (default: cores / workers, at least 1)
+  --report FILE          the JSON report (default DIR/report.json)
+  Progress on stderr: one line per asset (name, faces, seconds, status), then a summary.
+
+The summary is the HTTP 200 body without the asset, plus input, format, written, bytes; it
+goes to stdout, or to stderr when OUT is stdout, or to --report FILE.
+Exit codes: 0 ok; 1 processing error (the asset failed, a write failed; batch: any asset
+failed); 2 usage error (unknown or repeated flag, invalid parameter, unwritable output),
+found before any mesh work. Errors are the HTTP API's {"error": {"code", "message",
+"details"}} on stderr.
+)";
+
+int usage(std::ostream& err, const ApiError& error) {
+  ApiError e = error;
+  e.message += " (seamd seam --help shows the usage)";
+  return cli::fail(err, e, 2);
 }
 
-int usage(std::ostream& err, const std::string& message) {
-  return fail(err, make_api_error(ApiErrorCode::kInvalidParameter, message + "\n" + kUsage), 2);
-}
-
-bool read_file(const std::string& path, std::string& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  out = ss.str();
-  return static_cast<bool>(in) || in.eof();
-}
-
-bool write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  return static_cast<bool>(out);
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-int run_sample(int argc, char** argv, std::ostream& out, std::ostream& err) {
-  std::string path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--out" && i + 1 < argc) path = argv[++i];
-    else return usage(err, "unknown argument " + arg);
-  }
-  if (path.empty()) return usage(err, "sample needs --out FILE.glb");
-  auto glb = sample_glb();
-  if (!glb.ok()) return fail(err, glb.error(), 1);
-  if (!write_file(path, *glb)) return fail(err, make_api_error(ApiErrorCode::kInternal, "cannot write " + path), 1);
-  nlohmann::json tips = sample_tips();
-  out << nlohmann::json{{"written", path}, {"bytes", glb->size()}, {"tips", tips}}.dump() << "\n";
+int print_version(std::ostream& out, const CliContext& context) {
+  out << "seamd " << context.version << "\n";
   return 0;
 }
 
-int run_seam(int argc, char** argv, std::ostream& out, std::ostream& err) {
-  std::string mesh_path, out_path;
-  std::vector<std::pair<std::string, std::string>> query;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&](const char* name) -> const char* {
-      if (i + 1 >= argc) return nullptr;
-      (void)name;
-      return argv[++i];
-    };
-    const char* v = nullptr;
-    if (arg == "--draco") {
-      query.emplace_back("draco", "true");
-    } else if (arg == "--no-draco") {
-      query.emplace_back("draco", "false");
-    } else if (arg == "--mesh" || arg == "--out" || arg == "--extrema" || arg == "--method" || arg == "--uv" ||
-               arg == "--weld-epsilon" || arg == "--mesh-index" || arg == "--primitive") {
-      if ((v = value(arg.c_str())) == nullptr) return usage(err, arg + " needs a value");
-      if (arg == "--mesh") mesh_path = v;
-      else if (arg == "--out") out_path = v;
-      else if (arg == "--weld-epsilon") query.emplace_back("weld_epsilon", v);
-      else if (arg == "--mesh-index") query.emplace_back("mesh", v);
-      else query.emplace_back(arg.substr(2), v);
-    } else {
-      return usage(err, "unknown argument " + arg);
-    }
+int run_sample(int argc, char** argv, std::ostream& out, std::ostream& err, const CliContext& context) {
+  auto args = cli::parse_args(argc, argv, {{"--out", "out"}});
+  if (!args.ok()) return usage(err, args.error());
+  if (args->help) {
+    out << kUsage;
+    return 0;
   }
-  if (mesh_path.empty()) return usage(err, "seam needs --mesh FILE");
-  auto params = params_from_query(query);
-  if (!params.ok()) return fail(err, params.error(), 2);
-  params->output = OutputFormat::kGlb;  // the asset goes to --out, never into stdout
+  if (args->version) return print_version(out, context);
+  if (!args->param_flags.empty()) {
+    return usage(err, cli::usage_error(args->flag_of_key.begin()->first,
+                                       "sample takes no flag " + args->flag_of_key.begin()->second));
+  }
+  if (args->positional.size() > 1) return usage(err, cli::usage_error("out", "sample takes one OUT"));
+  if (args->positional.size() == 1) {
+    if (auto e = cli::set_positional(*args, "out", args->positional[0], "OUT")) return usage(err, *e);
+  }
+  if (args->own.count("out") == 0) return usage(err, cli::usage_error("out", "sample needs OUT (a .glb path or -)"));
+  auto target = cli::check_output(args->own["out"], "out");
+  if (!target.ok()) return cli::fail(err, target.error(), 2);
+  auto glb = sample_glb();
+  if (!glb.ok()) return cli::fail(err, glb.error(), 1);
+  const json summary = {{"written", target->path}, {"bytes", glb->size()}, {"tips", sample_tips()}};
+  if (target->to_stdout) {
+    out.write(glb->data(), static_cast<std::streamsize>(glb->size()));
+    out.flush();
+    err << summary.dump() << "\n";
+    return 0;
+  }
+  if (auto e = cli::write_output(*target, *glb)) return cli::fail(err, *e, 1);
+  out << summary.dump() << "\n";
+  return 0;
+}
 
-  std::string bytes;
-  AssetKind kind = AssetKind::kAuto;
-  const std::string ext = lower_extension(mesh_path);
-  if (ext == ".off" || ext == ".obj") {
-    auto mesh = read_mesh_file(mesh_path);
-    if (!mesh.ok()) return fail(err, mesh.error(), 1);
-    auto glb = write_plain_glb(*mesh);
-    if (!glb.ok()) return fail(err, glb.error(), 1);
-    bytes = std::move(glb).value();
-    kind = AssetKind::kGlb;
-  } else {
-    if (!read_file(mesh_path, bytes)) {
-      return fail(err, make_api_error(ApiErrorCode::kMalformedAsset, "cannot read " + mesh_path), 1);
+int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::ostream& err,
+             const CliContext& context) {
+  auto parsed = cli::parse_args(argc, argv,
+                                {{"--mesh", "in"}, {"--out", "out"}, {"--report", "report"}, {"--params", "params"},
+                                 {"--threads", "threads"}});
+  if (!parsed.ok()) return usage(err, parsed.error());
+  cli::ParsedArgs& args = *parsed;
+  if (args.help) {
+    out << kUsage;
+    return 0;
+  }
+  if (args.version) return print_version(out, context);
+  if (args.positional.size() > 2) {
+    return usage(err, cli::usage_error("out", "seam takes IN and at most one OUT; extra argument " +
+                                                  args.positional[2]));
+  }
+  if (!args.positional.empty()) {
+    if (auto e = cli::set_positional(args, "in", args.positional[0], "IN")) return usage(err, *e);
+  }
+  if (args.positional.size() == 2) {
+    if (auto e = cli::set_positional(args, "out", args.positional[1], "OUT")) return usage(err, *e);
+  }
+  if (args.own.count("in") == 0) return usage(err, cli::usage_error("in", "seam needs an input: seamd seam IN [OUT]"));
+
+  json merged;
+  auto params = cli::build_params(args, merged);
+  if (!params.ok()) return usage(err, params.error());
+  PipelineLimits limits;
+  limits.threads = context.cores;
+  if (args.own.count("threads") != 0) {
+    auto threads = cli::positive_count("threads", args.own["threads"]);
+    if (!threads.ok()) return usage(err, threads.error());
+    limits.threads = *threads;
+  }
+
+  // Every output is checked before the input is read.
+  std::optional<cli::OutputTarget> target, report;
+  if (args.own.count("out") != 0) {
+    auto t = cli::check_output(args.own["out"], "out");
+    if (!t.ok()) return cli::fail(err, t.error(), 2);
+    target = *t;
+  }
+  if (args.own.count("report") != 0) {
+    auto r = cli::check_output(args.own["report"], "report");
+    if (!r.ok()) return cli::fail(err, r.error(), 2);
+    report = *r;
+  }
+  // The HTTP default is a JSON body; on the command line OUT is a GLB unless asked.
+  if (!merged.contains("output") || !target) params->output = OutputFormat::kGlb;
+  if (target && target->to_stdout) {
+    if (report && report->to_stdout) {
+      return usage(err, cli::usage_error("report", "OUT and --report cannot both be stdout"));
     }
-    if (ext == ".glb") kind = AssetKind::kGlb;
-    else if (ext == ".gltf") kind = AssetKind::kGltfJson;
-    else if (ext == ".drc") kind = AssetKind::kDraco;
+    if (context.stdout_is_terminal && params->output == OutputFormat::kGlb) {
+      return usage(err, cli::usage_error("out", "refusing to write a binary GLB to a terminal; redirect stdout "
+                                                "or give an OUT file"));
+    }
   }
-  auto result = run_seam_pipeline(bytes, kind, *params, PipelineLimits{}, core::CancelToken::none());
-  if (!result.ok()) return fail(err, result.error(), 1);
-  if (!out_path.empty() && !write_file(out_path, result->glb)) {
-    return fail(err, make_api_error(ApiErrorCode::kInternal, "cannot write " + out_path), 1);
+  if (args.own["in"] == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
+    return usage(err, cli::usage_error("params", "stdin cannot be both IN and --params @-"));
   }
-  nlohmann::json body = result->body;
-  body.erase("asset");
-  if (!out_path.empty()) body["written"] = out_path;
-  out << body.dump(2) << "\n";
+
+  const std::string& in_path = args.own["in"];
+  auto bytes = cli::read_input(in_path, in);
+  if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);
+  auto asset = cli::load_asset(std::move(bytes).value(), in_path);
+  if (!asset.ok()) return cli::fail(err, asset.error(), 1);
+  auto result = run_seam_pipeline(asset->bytes, asset->kind, *params, limits, core::CancelToken::none());
+  if (!result.ok()) return cli::fail(err, result.error(), 1);
+
+  json summary = result->body;
+  summary.erase("asset");
+  summary["input"] = in_path;
+  summary["format"] = asset->format;
+  if (target) {
+    const std::string written =
+        params->output == OutputFormat::kJson ? result->body.dump() + "\n" : std::move(result->glb);
+    if (target->to_stdout) {
+      out.write(written.data(), static_cast<std::streamsize>(written.size()));
+      out.flush();
+      if (!out) return cli::fail(err, make_api_error(ApiErrorCode::kInternal, "cannot write to stdout"), 1);
+    } else if (auto e = cli::write_output(*target, written)) {
+      return cli::fail(err, *e, 1);
+    }
+    summary["written"] = target->path;
+    summary["bytes"] = written.size();
+  }
+  const std::string text = summary.dump(2) + "\n";
+  if (report && !report->to_stdout) {
+    if (auto e = cli::write_output(*report, text)) return cli::fail(err, *e, 1);
+  } else if (target && target->to_stdout) {
+    err << text;
+  } else {
+    out << text;
+  }
   return 0;
 }
 
 }  // namespace
 
-int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
-  if (argc < 1) return usage(err, "missing subcommand");
+std::string cli_usage() { return kUsage; }
+
+int run_cli(int argc, char** argv, std::istream& in, std::ostream& out, std::ostream& err,
+            const CliContext& context) {
+  if (argc < 1) return usage(err, cli::usage_error("command", "missing command (seam, batch, sample)"));
   const std::string command = argv[0];
-  if (command == "seam") return run_seam(argc, argv, out, err);
-  if (command == "sample") return run_sample(argc, argv, out, err);
-  return usage(err, "unknown subcommand " + command);
+  if (command == "--version") return print_version(out, context);
+  if (command == "seam") return run_seam(argc, argv, in, out, err, context);
+  if (command == "batch") return run_batch(argc, argv, out, err, context);
+  if (command == "sample") return run_sample(argc, argv, out, err, context);
+  return usage(err, cli::usage_error("command", "unknown command " + command + " (seam, batch, sample)"));
+}
+
+int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
+  std::istringstream empty;
+  return run_cli(argc, argv, empty, out, err);
 }
 
 }  // namespace seam::api

@@ -1,18 +1,37 @@
-// The command line's batch mode: `seamd seam ...` and `seamd sample ...` (no HTTP server).
+// The command line: `seamd seam`, `seamd batch`, `seamd sample`, `seamd --version` (no HTTP
+// server). The usage text is cli_usage(); api/README.md "Command line" documents it.
 #pragma once
 
+#include <istream>
 #include <ostream>
+#include <string>
 
 namespace seam::api {
 
-/// Runs a CLI subcommand. argv[0] is the subcommand name ("seam" or "sample").
-///   seamd seam --mesh FILE(.off|.obj|.glb|.gltf|.drc) [--extrema i,j,k|auto]
-///              [--method skeleton|mst|greedy|optimal] [--uv slim|arap|bff|lscm|none]
-///              [--weld-epsilon X] [--out cut.glb] [--draco]
-///     prints the API's 200 body (without the asset) as JSON on `out`.
-///   seamd sample --out sample.glb   writes the bundled procedural sample mesh.
-/// Returns the process exit code (0 ok, 1 processing error, 2 usage error); errors are
-/// printed as the contract's JSON error body on `err`.
+/// What the process around run_cli knows and the library does not.
+struct CliContext {
+  std::string version = "unknown";  ///< printed by --version (main passes SEAM_VERSION)
+  /// Set when stdout is a terminal: the CLI then refuses to write a binary GLB to it.
+  bool stdout_is_terminal = false;
+  /// Default `batch --workers` and the thread budget split among workers; 0 = the hardware
+  /// concurrency.
+  unsigned cores = 0;
+};
+
+/// Runs a CLI command. argv[0] is the command: "seam", "batch", "sample" or "--version".
+/// `in` is read only for the input `-`; `out` receives the asset when the output is `-` or
+/// /dev/stdout (then nothing else is written to it) and the JSON summary otherwise; `err`
+/// receives errors as the contract's JSON error body, and batch progress.
+/// Returns the process exit code: 0 ok, 1 processing error (an asset failed, a write
+/// failed), 2 usage error (unknown or repeated flag, invalid parameter, unwritable output:
+/// all found before any mesh work).
+int run_cli(int argc, char** argv, std::istream& in, std::ostream& out, std::ostream& err,
+            const CliContext& context = {});
+
+/// run_cli with no standard input (an input of `-` reads nothing).
 int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err);
+
+/// The usage text `seamd seam --help` prints (every command, every flag).
+std::string cli_usage();
 
 }  // namespace seam::api

@@ -76,8 +76,15 @@ int serve(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc >= 2 && (std::strcmp(argv[1], "seam") == 0 || std::strcmp(argv[1], "sample") == 0)) {
-    return seam::api::run_cli(argc - 1, argv + 1, std::cout, std::cerr);
+  if (argc >= 2 && (std::strcmp(argv[1], "seam") == 0 || std::strcmp(argv[1], "batch") == 0 ||
+                    std::strcmp(argv[1], "sample") == 0 || std::strcmp(argv[1], "--version") == 0)) {
+    seam::api::CliContext context;
+    context.version = SEAM_VERSION;
+    context.stdout_is_terminal = isatty(STDOUT_FILENO) == 1;
+    // A reader that quits early (`seamd seam in.glb - | head -c 4`) is a failed write, not a kill.
+    std::signal(SIGPIPE, SIG_IGN);
+    std::ios::sync_with_stdio(false);  // whole assets through cin/cout: no per-character stdio sync
+    return seam::api::run_cli(argc - 1, argv + 1, std::cin, std::cout, std::cerr, context);
   }
   return serve(argc, argv);
 }
