@@ -268,7 +268,7 @@ int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const
     cli::fail(err, *e, 1);
     code = 1;
   }
-  err << "batch: " << jobs.size() << " assets, " << ok << " ok, " << failed << " failed in " << fixed(seconds, 1)
+  err << "batch: " << jobs.size() << (jobs.size() == 1 ? " asset, " : " assets, ") << ok << " ok, " << failed << " failed in " << fixed(seconds, 1)
       << " s over " << threads << (threads == 1 ? " worker" : " workers") << "; report "
       << (report_target->to_stdout ? std::string("on stdout") : report_target->path) << "\n";
   return code;
