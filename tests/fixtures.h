@@ -215,6 +215,77 @@ inline Soup flipped_tetrahedron() {
   return s;
 }
 
+/// An icosphere with every face whose centroid has z > `z_min` reversed: a flipped patch
+/// (inconsistent orientation) on a closed surface, as a bad export leaves it.
+inline Soup sphere_with_flipped_patch(int levels = 2, double z_min = 0.7) {
+  Soup s = icosphere(levels);
+  for (auto& t : s.triangles) {
+    const double z = (s.positions[t[0]].z() + s.positions[t[1]].z() + s.positions[t[2]].z()) / 3;
+    if (z > z_min) std::swap(t[1], t[2]);
+  }
+  return s;
+}
+
+/// An icosphere with a fin: one extra triangle on the existing edge of face 0's first two
+/// corners, its apex pushed outwards (three faces on one edge).
+inline Soup sphere_with_fin(int levels = 1) {
+  Soup s = icosphere(levels);
+  const Triangle t = s.triangles[0];
+  const Vec3 mid = (s.positions[t[0]] + s.positions[t[1]]) / 2;
+  s.positions.push_back(mid * 1.8);
+  s.triangles.push_back({t[0], t[1], static_cast<std::uint32_t>(s.positions.size() - 1)});
+  return s;
+}
+
+/// `pages` triangles on edge (0, 1), directions alternating: `pages` sheets on one edge.
+inline Soup book(int pages) {
+  Soup s{{Vec3(0, 0, 0), Vec3(1, 0, 0)}, {}};
+  for (int p = 0; p < pages; ++p) {
+    const double a = 2 * std::numbers::pi * p / pages;
+    s.positions.emplace_back(0.5, std::cos(a), std::sin(a));
+    const auto apex = static_cast<std::uint32_t>(s.positions.size() - 1);
+    s.triangles.push_back(p % 2 == 0 ? Triangle{0, 1, apex} : Triangle{1, 0, apex});
+  }
+  return s;
+}
+
+/// Two tetrahedra sharing one edge (four faces on it): two closed sheets.
+inline Soup tetrahedra_on_one_edge() {
+  Soup s = tetrahedron();  // edge (0, 1) is shared
+  s.positions.push_back(Vec3(0.5, -1, -0.5));
+  s.positions.push_back(Vec3(0.5, -0.5, -1));
+  // A second tetrahedron 0, 1, 4, 5, wound outwards.
+  const std::uint32_t a = 0, b = 1, c = 4, d = 5;
+  const Vec3 centre = (s.positions[a] + s.positions[b] + s.positions[c] + s.positions[d]) / 4;
+  for (Triangle t : {Triangle{a, b, c}, Triangle{a, b, d}, Triangle{a, c, d}, Triangle{b, c, d}}) {
+    const Vec3 n = (s.positions[t[1]] - s.positions[t[0]]).cross(s.positions[t[2]] - s.positions[t[0]]);
+    if (n.dot(s.positions[t[0]] - centre) < 0) std::swap(t[1], t[2]);
+    s.triangles.push_back(t);
+  }
+  return s;
+}
+
+/// A Moebius strip of `segments` quads: non-orientable, every edge manifold.
+inline Soup moebius(int segments = 12) {
+  Soup s;
+  for (int i = 0; i < segments; ++i) {
+    const double u = 2 * std::numbers::pi * i / segments;
+    for (int side : {-1, 1}) {
+      const double w = 0.3 * side;
+      s.positions.emplace_back((1 + w * std::cos(u / 2)) * std::cos(u), (1 + w * std::cos(u / 2)) * std::sin(u),
+                               w * std::sin(u / 2));
+    }
+  }
+  const auto n = static_cast<std::uint32_t>(segments);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::uint32_t a = 2 * i, b = 2 * i + 1, c = 2 * ((i + 1) % n), d = 2 * ((i + 1) % n) + 1;
+    if (i + 1 == n) std::swap(c, d);  // the half twist
+    s.triangles.push_back({a, c, b});
+    s.triangles.push_back({b, c, d});
+  }
+  return s;
+}
+
 /// A latitude-longitude sphere as exporters write it at a UV seam: the first meridian's
 /// vertices are stored twice (columns 0 and `around`, same positions). Unwelded it is a disc
 /// (one boundary loop); welded it is the closed sphere. `split` = false stores them once.
