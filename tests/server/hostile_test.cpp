@@ -202,20 +202,7 @@ TEST_CASE("hostile: header floods are a 431 at 100 fields or 64 KiB, memory stay
 
 TEST_CASE("hostile: 80 clients trickling a byte a second leave /healthz and seam requests answered") {
   Seamd seamd(limited_args({"--request-timeout-s", "4"}));
-  std::vector<RawConnection> slow;
-  for (int i = 0; i < 80; ++i) {
-    slow.emplace_back(seamd.port());
-    REQUIRE(slow.back().connected());
-    // Half trickle their head, half a declared body.
-    REQUIRE(slow.back().send(i % 2 ? "GET /healthz HTTP/1.1\r\nHost: t\r\nX-Slow: " : post_head(100'000)));
-  }
-  std::atomic<bool> stop{false};
-  std::thread trickle([&] {
-    while (!stop) {
-      for (auto& s : slow) s.send("a");
-      std::this_thread::sleep_for(1s);
-    }
-  });
+  TricklingClients slow(seamd.port(), 80);
   int probes = 0, healthy = 0;
   double worst_ms = 0;
   const auto until = Clock::now() + 3s;
@@ -232,9 +219,8 @@ TEST_CASE("hostile: 80 clients trickling a byte a second leave /healthz and seam
   CHECK(status_of(seam) == 200);
   // Each slow client is ended with a 408 by its deadline (4 s, + 100000 B / 64 KiB/s for a body).
   int timed_out = 0;
-  for (auto& s : slow) timed_out += status_of(s.read_all(8s)) == 408;
-  stop = true;
-  trickle.join();
+  for (auto& c : slow.connections()) timed_out += status_of(c.read_all(8s)) == 408;
+  slow.stop();
   CHECK(timed_out == 80);
   check_alive(seamd);
 }

@@ -91,18 +91,7 @@ TEST_CASE("nginx front (docker/nginx.conf): slow clients stay in nginx, honest r
   Seamd seamd({"--workers", "2"});
   NginxFront nginx(seamd.port());
 
-  std::vector<RawConnection> slow;
-  for (int i = 0; i < 80; ++i) {
-    slow.emplace_back(nginx.port());
-    REQUIRE(slow.back().send(i % 2 ? "GET /healthz HTTP/1.1\r\nHost: t\r\nX-Slow: " : post_head(100'000)));
-  }
-  std::atomic<bool> stop{false};
-  std::thread trickle([&] {
-    while (!stop) {
-      for (auto& s : slow) s.send("a");
-      std::this_thread::sleep_for(1s);
-    }
-  });
+  TricklingClients slow(nginx.port(), 80);
   int probes = 0, healthy = 0;
   long long most_in_seamd = 0;
   for (const auto until = Clock::now() + 3s; Clock::now() < until; ++probes) {
@@ -111,8 +100,7 @@ TEST_CASE("nginx front (docker/nginx.conf): slow clients stay in nginx, honest r
     std::this_thread::sleep_for(100ms);
   }
   const auto seam = exchange(nginx.port(), post_head(glb->size()) + *glb, 60s);
-  stop = true;
-  trickle.join();
+  slow.stop();
   MESSAGE("through nginx with 80 slow clients: /healthz " << healthy << "/" << probes
                                                            << ", at most " << most_in_seamd << " seam request(s) in flight in seamd");
   CHECK(healthy == probes);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -159,6 +160,43 @@ inline std::string exchange(int port, std::string_view request, std::chrono::mil
   c.send(request);
   return c.read_all(limit);
 }
+
+/// `n` slow clients of `port`: each sends the start of a request (half a head that never
+/// ends, half a POST head declaring a 100,000-byte body) and then one byte a second until
+/// stop() or destruction.
+class TricklingClients {
+ public:
+  TricklingClients(int port, int n) {
+    for (int i = 0; i < n; ++i) {
+      clients_.emplace_back(port);
+      REQUIRE(clients_.back().connected());
+      REQUIRE(clients_.back().send(i % 2 ? std::string("GET /healthz HTTP/1.1\r\nHost: t\r\nX-Slow: ")
+                                         : "POST /seam HTTP/1.1\r\nHost: t\r\nContent-Type: model/gltf-binary\r\n"
+                                           "Content-Length: 100000\r\nConnection: close\r\n\r\n"));
+    }
+    thread_ = std::thread([this] {
+      while (!stop_) {
+        for (auto& c : clients_) c.send("a");
+        for (int i = 0; i < 20 && !stop_; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+    });
+  }
+  ~TricklingClients() { stop(); }
+  TricklingClients(const TricklingClients&) = delete;
+  TricklingClients& operator=(const TricklingClients&) = delete;
+
+  void stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  /// The connections, e.g. to read what the server answered them (after stop()).
+  std::vector<RawConnection>& connections() { return clients_; }
+
+ private:
+  std::vector<RawConnection> clients_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
 
 /// seamd started with `args` (after --bind 127.0.0.1 --port P --log-level off); waits until
 /// /healthz answers. Killed on destruction if still running.
