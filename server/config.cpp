@@ -184,11 +184,11 @@ std::string help_text() {
   const ServerConfig defaults;
   os << "seamd " << SEAM_VERSION << ": the seam service\n\n"
      << "usage:\n"
-     << "  seamd [serve flags]      serve POST /seam, /healthz, /readyz, /metrics, /version\n"
-     << "  seamd seam --mesh FILE [--extrema i,j,k|auto] [--method skeleton|mst|greedy|optimal]\n"
-     << "             [--uv slim|arap|bff|lscm|none] [--weld-epsilon X] [--out cut.glb] [--draco]\n"
-     << "  seamd sample --out sample.glb\n"
-     << "  seamd --help\n\n"
+     << "  seamd [serve flags]             serve POST /seam, /healthz, /readyz, /metrics, /version\n"
+     << "  seamd seam IN [OUT] [flags]     cut one asset (seamd seam --help lists the flags)\n"
+     << "  seamd batch IN... --out-dir DIR cut many assets in parallel (seamd batch --help)\n"
+     << "  seamd sample [OUT]              write the bundled sample\n"
+     << "  seamd --version | --help\n\n"
      << "serve flags (--flag VALUE or --flag=VALUE; each also read from its environment variable;\n"
      << "flags win over the environment):\n";
   for (const auto& spec : option_table()) {
