@@ -164,6 +164,9 @@ ApiResult<SeamParams> params_from_json(const json& params) {
     } else if (key == "refine") {
       if (!v.is_boolean()) return invalid("refine", "refine must be true or false");
       out.refine = v.get<bool>();
+    } else if (key == "repair") {
+      if (!v.is_boolean()) return invalid("repair", "repair must be true or false");
+      out.repair = v.get<bool>();
     } else if (key == "weld_epsilon") {
       if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0) {
         return invalid("weld_epsilon", "weld_epsilon must be a finite number >= 0");
@@ -171,7 +174,7 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       out.weld_epsilon = v.get<double>();
     } else {
       return invalid(key.substr(0, 60), "unknown parameter \"" + key.substr(0, 60) +
-                              "\" (known: extrema, mesh, primitive, method, uv, output, draco, refine, weld_epsilon)");
+                              "\" (known: extrema, mesh, primitive, method, uv, output, draco, refine, repair, weld_epsilon)");
     }
   }
   return out;
@@ -206,7 +209,7 @@ ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string,
         return invalid(key, key + " must be a non-negative integer");
       }
       params[key] = std::stoull(value);
-    } else if (key == "draco" || key == "refine") {
+    } else if (key == "draco" || key == "refine" || key == "repair") {
       if (value == "true" || value == "1") params[key] = true;
       else if (value == "false" || value == "0") params[key] = false;
       else return invalid(key, key + " must be true or false");

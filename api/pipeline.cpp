@@ -13,6 +13,7 @@
 #include "api/gltf_writer.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/repair.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/split_pinched.h"
 #include "core/mesh/vertex_order.h"
@@ -43,14 +44,22 @@ struct Canonical {
   std::vector<std::uint32_t> vertex_to_input;  // canonical vertex -> smallest input index
   std::vector<std::uint32_t> face_to_input;    // canonical face -> input triangle
   std::vector<std::uint32_t> input_to_face;    // input triangle -> canonical face
-  // After split_pinched: vertices beyond the welded ones are copies of pinched vertices.
+  // After repair (or split_pinched): vertices beyond the welded ones are copies made by the
+  // splits, and faces are the kept ones. face_to_input/input_to_face then speak of the mesh's
+  // faces; an input triangle left out (degenerate) maps to kNoFace and is listed below.
   std::vector<std::uint32_t> vertex_to_welded;  // vertex -> the welded vertex it is or copies
-  std::size_t pinched_vertices = 0;
+  std::vector<std::uint8_t> reoriented;         // per mesh face: winding reversed by the repair
+  std::vector<std::uint32_t> degenerate_inputs; // input triangles left out of the topology
+  std::size_t welded_vertices = 0;
+  core::RepairCounts repairs;
 };
+
+constexpr std::uint32_t kNoFace = core::RepairedMesh::kNoFace;
 
 Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Triangle>& input_triangles) {
   Canonical c;
   const std::size_t wn = weld.positions.size();
+  c.welded_vertices = wn;
   const std::vector<std::uint32_t> order = core::spatial_order(weld.positions);
   std::vector<std::uint32_t> rank(wn);
   c.positions.resize(wn);
@@ -91,13 +100,34 @@ Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Tri
 // numbered from the canonical mesh, so it is as independent of the input order as the rest.
 void split_pinched(Canonical& c) {
   core::PinchSplit split = core::split_pinched_vertices(c.positions, c.triangles);
-  c.pinched_vertices = split.pinched_vertices;
+  c.repairs.pinched_vertices = split.pinched_vertices;
   for (std::size_t v = c.vertex_to_input.size(); v < split.positions.size(); ++v) {
     c.vertex_to_input.push_back(c.vertex_to_input[split.source[v]]);
   }
   c.vertex_to_welded = std::move(split.source);
   c.positions = std::move(split.positions);
   c.triangles = std::move(split.triangles);
+  c.reoriented.assign(c.triangles.size(), 0);
+}
+
+// repair: true. core::repair_mesh on the canonical soup (so the repair, too, is independent of
+// the input order); the maps are composed so that they still lead to input indices.
+void repair(Canonical& c) {
+  core::RepairedMesh r = core::repair_mesh(c.positions, c.triangles);
+  for (std::size_t v = c.vertex_to_input.size(); v < r.positions.size(); ++v) {
+    c.vertex_to_input.push_back(c.vertex_to_input[r.vertex_source[v]]);
+  }
+  std::vector<std::uint32_t> face_to_input(r.face_source.size());
+  for (std::size_t f = 0; f < face_to_input.size(); ++f) face_to_input[f] = c.face_to_input[r.face_source[f]];
+  for (auto& f : c.input_to_face) f = r.input_to_face[f];
+  for (auto f : r.degenerate_faces) c.degenerate_inputs.push_back(c.face_to_input[f]);
+  std::sort(c.degenerate_inputs.begin(), c.degenerate_inputs.end());
+  c.face_to_input = std::move(face_to_input);
+  c.vertex_to_welded = std::move(r.vertex_source);
+  c.positions = std::move(r.positions);
+  c.triangles = std::move(r.triangles);
+  c.reoriented = std::move(r.reoriented);
+  c.repairs = r.counts;
 }
 
 // Core errors name canonical vertices or faces; the contract speaks in input indices.
@@ -116,6 +146,86 @@ ApiError map_core_error(const core::Error& error, const Canonical& canon, core::
   }
   out.details[vertices ? "vertices" : "faces"] = std::move(mapped);
   out.details.erase("elements");
+  return out;
+}
+
+// The asset's vertices after the cut: one per (input vertex, cut vertex) pair, and every input
+// triangle over them, in input order.
+struct OutputVertices {
+  CutPrimitive primitive;                   // source_vertex and triangles filled
+  std::vector<core::VertexId> cut_vertex;   // per output vertex: the cut vertex its UV comes from
+};
+
+// Per welded vertex, a cut vertex to borrow for corners the topology left out (degenerate
+// faces): the lowest cut copy in some face, else the lowest copy at all.
+std::vector<core::VertexId> welded_to_cut(const Canonical& canon, const core::CutMesh& cut) {
+  std::vector<core::VertexId> out(canon.welded_vertices);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::uint32_t v = 0; v < cut.mesh.num_vertices(); ++v) {
+      const core::VertexId cv(v);
+      if (pass == 0 && cut.mesh.is_isolated(cv)) continue;
+      core::VertexId& slot = out[canon.vertex_to_welded[cut.to_original[cv].index()]];
+      if (!slot.valid()) slot = cv;
+    }
+  }
+  return out;
+}
+
+// Kept faces keep their corners (matched by vertex, not by trusting the rotation) and take
+// the repaired winding, so a reoriented face is written reoriented. A face left out of the
+// topology (degenerate after welding) is kept in the asset: its corners borrow a cut vertex
+// of their welded vertex, or of another corner of the face when theirs is in no face, so its
+// UVs come from its vertices (a zero-area UV triangle when it repeats a welded vertex).
+ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const Canonical& canon,
+                                              const core::CutMesh& cut) {
+  OutputVertices out;
+  CutPrimitive& prim = out.primitive;
+  prim.triangles.resize(data.mesh.triangles.size());
+  std::unordered_map<std::uint64_t, std::uint32_t> output_index;
+  output_index.reserve(data.mesh.positions.size() * 5 / 4);
+  auto emit = [&](std::uint32_t input, core::VertexId cv) {
+    const std::uint64_t key = (static_cast<std::uint64_t>(input) << 32) | cv.value();
+    auto [it, inserted] = output_index.try_emplace(key, static_cast<std::uint32_t>(prim.source_vertex.size()));
+    if (inserted) {
+      prim.source_vertex.push_back(input);
+      out.cut_vertex.push_back(cv);
+    }
+    return it->second;
+  };
+  for (std::size_t f = 0; f < data.mesh.triangles.size(); ++f) {
+    const std::uint32_t mf = canon.input_to_face[f];
+    if (mf == kNoFace) continue;
+    const auto corners = cut.mesh.face_vertices(core::FaceId(mf));
+    core::Triangle& tri = prim.triangles[f];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t input = data.mesh.triangles[f][k];
+      const std::uint32_t welded = canon.input_to_vertex[input];
+      core::VertexId cv;
+      for (auto c : corners) {
+        if (canon.vertex_to_welded[cut.to_original[c].index()] == welded) cv = c;
+      }
+      if (!cv.valid()) {
+        return make_api_error(ApiErrorCode::kInternal, "cut face " + std::to_string(f) + " does not match its input triangle");
+      }
+      tri[k] = emit(input, cv);
+    }
+    if (canon.reoriented[mf]) std::swap(tri[1], tri[2]);
+  }
+  if (canon.degenerate_inputs.empty()) return out;
+  const std::vector<core::VertexId> borrow = welded_to_cut(canon, cut);
+  for (const std::uint32_t f : canon.degenerate_inputs) {
+    std::array<core::VertexId, 3> cv;
+    core::VertexId in_face;  // a corner's cut vertex that lies in some face
+    for (std::size_t k = 0; k < 3; ++k) {
+      cv[k] = borrow[canon.input_to_vertex[data.mesh.triangles[f][k]]];
+      if (!cv[k].valid()) return make_api_error(ApiErrorCode::kInternal, "degenerate face " + std::to_string(f) + " lost a vertex");
+      if (!in_face.valid() && !cut.mesh.is_isolated(cv[k])) in_face = cv[k];
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+      const core::VertexId c = cut.mesh.is_isolated(cv[k]) && in_face.valid() ? in_face : cv[k];
+      prim.triangles[f][k] = emit(data.mesh.triangles[f][k], c);
+    }
+  }
   return out;
 }
 
@@ -241,7 +351,8 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
     if (!weld.ok()) return from_core(weld.error());
     Canonical canon = canonicalize(*weld, data.mesh.triangles);
-    split_pinched(canon);
+    if (params.repair) repair(canon);
+    else split_pinched(canon);
     auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
     if (!built.ok()) return map_core_error(built.error(), canon, built.error().code);
     const core::HalfedgeMesh& mesh = *built;
@@ -281,41 +392,15 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     }
     timings["uv"] = ms_since(t);
 
-    // Output vertices: one per (input vertex, cut vertex) pair. Faces keep their ids, so cut
-    // face f is input triangle f; match corners by vertex rather than trusting the rotation.
     t = Clock::now();
-    CutPrimitive out_prim;
-    out_prim.triangles.resize(data.mesh.triangles.size());
-    std::unordered_map<std::uint64_t, std::uint32_t> output_index;
-    output_index.reserve(data.mesh.positions.size() * 5 / 4);
-    std::vector<std::uint32_t> output_cut_vertex;
-    for (std::size_t f = 0; f < data.mesh.triangles.size(); ++f) {
-      const auto corners = cut->mesh.face_vertices(core::FaceId(canon.input_to_face[f]));
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t input = data.mesh.triangles[f][static_cast<std::size_t>(k)];
-        const std::uint32_t welded = canon.input_to_vertex[input];
-        core::VertexId cv;
-        for (auto c : corners) {
-          if (canon.vertex_to_welded[cut->to_original[c].index()] == welded) cv = c;
-        }
-        if (!cv.valid()) {
-          return make_api_error(ApiErrorCode::kInternal, "cut face " + std::to_string(f) + " does not match its input triangle");
-        }
-        const std::uint64_t key = (static_cast<std::uint64_t>(input) << 32) | cv.value();
-        auto [it, inserted] = output_index.try_emplace(key, static_cast<std::uint32_t>(out_prim.source_vertex.size()));
-        if (inserted) {
-          out_prim.source_vertex.push_back(input);
-          output_cut_vertex.push_back(cv.value());
-        }
-        out_prim.triangles[f][static_cast<std::size_t>(k)] = it->second;
-      }
-    }
+    SEAM_TRY(OutputVertices output_vertices, map_output_vertices(data, canon, *cut));
+    CutPrimitive out_prim = std::move(output_vertices.primitive);
     if (uv) {
       out_prim.uv.reserve(out_prim.source_vertex.size());
       // glTF puts the texture origin top-left with v growing down; flip v so that a
       // counter-clockwise triangle stays counter-clockwise in texture space.
-      for (auto c : output_cut_vertex) {
-        const core::Vec2& p = uv->uv[core::VertexId(c)];
+      for (auto c : output_vertices.cut_vertex) {
+        const core::Vec2& p = uv->uv[c];
         out_prim.uv.push_back({static_cast<float>(p.x()), static_cast<float>(1.0 - p.y())});
       }
     }
@@ -361,10 +446,16 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     json mesh_json = {{"vertices", data.mesh.positions.size()},
                       {"faces", data.mesh.triangles.size()},
                       {"welded_vertices", weld->positions.size()},
-                      {"pinched_vertices_split", canon.pinched_vertices},
+                      {"pinched_vertices_split", canon.repairs.pinched_vertices},
                       {"components", topology.components.size()},
                       {"genus", topology.total_genus()},
                       {"boundary_loops", boundary_loops}};
+    const core::RepairCounts& r = canon.repairs;
+    json repairs_json = {{"non_manifold_edges", r.non_manifold_edges},
+                         {"reoriented_faces", r.reoriented_faces},
+                         {"degenerate_faces", r.degenerate_faces},
+                         {"pinched_vertices", r.pinched_vertices},
+                         {"split_off_faces", r.split_off_faces}};
     json cut_json = {{"vertices", cut->mesh.num_vertices()},
                      {"faces", cut->mesh.num_faces()},
                      {"euler_characteristic", cut_topology.euler_characteristic()},
@@ -406,7 +497,8 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     timings["total"] = ms_since(t_start);
 
     PipelineOutput output;
-    output.body = {{"seam", std::move(seam_json)}, {"mesh", std::move(mesh_json)}, {"cut", std::move(cut_json)},
+    output.body = {{"seam", std::move(seam_json)}, {"mesh", std::move(mesh_json)}, {"repairs", std::move(repairs_json)},
+                   {"cut", std::move(cut_json)},
                    {"uv", std::move(uv_json)},     {"timings_ms", timings},         {"draco", write_options.draco}};
     if (params.output == OutputFormat::kJson) output.body["asset"] = {{"glb_base64", encode_base64(written.glb)}};
     output.glb = std::move(written.glb);

@@ -45,6 +45,10 @@ struct SeamParams {
   /// a few milliseconds at 10k faces.
   bool refine = core::SeamOptions{}.refine;
   double weld_epsilon = 0.0;
+  /// Repair what the builder would refuse (core::repair_mesh: non-manifold edges split into
+  /// sheets, orientation made consistent, degenerate faces left out of the topology but kept
+  /// in the asset). false: v1's 422s (pinched vertices are split either way).
+  bool repair = true;
 };
 
 /// Parses the parameter object (the multipart `params` part, or the JSON body minus "mesh").

@@ -327,6 +327,96 @@ TEST_CASE("a pinched vertex is split per fan: CGAL's cow gives a valid seam, dis
   CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "cow.glb") == 0, report);
 }
 
+// A sphere as a DCC tool may export it: a fin (a third face on one edge), a patch of reversed
+// faces, and faces that collapse when welded (they repeat a position stored twice; one of them
+// sits on a vertex that is in no other face). `patch` = the reversed faces.
+core::IndexedMesh broken_sphere(std::size_t& patch) {
+  fixtures::Soup s = fixtures::sphere_with_fin(3);
+  const fixtures::Soup flipped = fixtures::sphere_with_flipped_patch(3, 0.7);
+  patch = 0;
+  for (std::size_t f = 0; f < flipped.triangles.size(); ++f) {
+    patch += flipped.triangles[f] != s.triangles[f];
+    s.triangles[f] = flipped.triangles[f];
+  }
+  auto copy_of = [&](std::uint32_t v) {
+    s.positions.push_back(s.positions[v]);
+    return static_cast<std::uint32_t>(s.positions.size() - 1);
+  };
+  const core::Triangle a = s.triangles[10], b = s.triangles[20];
+  s.triangles.push_back({a[0], a[1], copy_of(a[1])});
+  s.triangles.push_back({copy_of(b[2]), b[0], b[2]});
+  s.positions.push_back(core::Vec3(0, 0, 3));  // a stray vertex, only in a collapsed face
+  const auto stray = static_cast<std::uint32_t>(s.positions.size() - 1);
+  s.triangles.push_back({stray, copy_of(stray), copy_of(stray)});
+  return core::IndexedMesh{s.positions, s.triangles};
+}
+
+double area3(const core::IndexedMesh& m, const core::Triangle& t) {
+  return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm();
+}
+
+TEST_CASE("repair by default: fin, flipped patch and collapsed faces give a disc cut, 0 flips, a valid asset") {
+  std::size_t patch = 0;
+  const core::IndexedMesh soup = broken_sphere(patch);
+  REQUIRE(patch > 10);
+  const auto glb = write_plain_glb(soup);
+  REQUIRE(glb.ok());
+  const auto t0 = std::chrono::steady_clock::now();
+  const PipelineOutput out = run_ok(*glb, SeamParams{});
+  MESSAGE("repaired sphere (" << soup.triangles.size() << " faces): "
+                              << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()
+                              << " ms, repairs " << out.body["repairs"].dump());
+  const json& body = out.body;
+  CHECK(body["repairs"]["non_manifold_edges"] == 1);
+  CHECK(body["repairs"]["degenerate_faces"] == 3);
+  CHECK(body["repairs"]["reoriented_faces"].get<std::size_t>() >= patch);
+  CHECK(body["repairs"]["reoriented_faces"].get<std::size_t>() <= patch + 1);  // the fin may be reversed too
+  CHECK(body["repairs"]["split_off_faces"] == 0);
+  CHECK(body["mesh"]["components"] == 2);  // the sphere, closed again, and the fin
+  CHECK(body["cut"]["euler_characteristic"] == 2);
+  CHECK(body["cut"]["boundary_loops"] == 2);
+  CHECK(body["cut"]["faces"] == soup.triangles.size() - 3);
+  CHECK(body["uv"]["flipped"] == 0);
+
+  // Every input face is in the asset; without the collapsed ones it is two discs, and every
+  // new UV triangle turns the same way as its face.
+  const PrimitiveData cut = read(out.glb);
+  REQUIRE(cut.mesh.triangles.size() == soup.triangles.size());
+  core::IndexedMesh solid{cut.mesh.positions, {}};
+  for (const auto& t : cut.mesh.triangles) {
+    if (area3(cut.mesh, t) > 0) solid.triangles.push_back(t);
+  }
+  CHECK(solid.triangles.size() == soup.triangles.size() - 3);
+  const PrimitiveData solid_data{solid, {}, {}, false};
+  const core::Topology topo = stored_topology(solid_data);
+  CHECK(topo.components.size() == 2);
+  CHECK(topo.boundary_loops.size() == 2);
+  const std::string channel = "TEXCOORD_" + std::to_string(body["uv"]["channel"].get<int>());
+  const auto uv_attr = std::find_if(cut.attributes.begin(), cut.attributes.end(),
+                                    [&](const AttributeArray& a) { return a.name == channel; });
+  REQUIRE(uv_attr != cut.attributes.end());
+  REQUIRE(uv_attr->component_type == 5126);
+  std::vector<float> uv(uv_attr->count * 2);
+  std::memcpy(uv.data(), uv_attr->data.data(), uv.size() * sizeof(float));
+  std::size_t positive = 0, negative = 0;
+  for (const auto& t : solid.triangles) {
+    const double ax = uv[2 * t[1]] - uv[2 * t[0]], ay = uv[2 * t[1] + 1] - uv[2 * t[0] + 1];
+    const double bx = uv[2 * t[2]] - uv[2 * t[0]], by = uv[2 * t[2] + 1] - uv[2 * t[0] + 1];
+    (ax * by - ay * bx > 0 ? positive : negative) += 1;
+  }
+  CHECK(std::min(positive, negative) == 0);
+  std::string report;
+  CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "repaired.glb") == 0, report);
+
+  // repair: false keeps v1's 422 (the builder checks collapsed faces first).
+  SeamParams strict;
+  strict.repair = false;
+  auto refused = run_seam_pipeline(*glb, AssetKind::kAuto, strict, {}, core::CancelToken::none());
+  REQUIRE(!refused.ok());
+  CHECK(refused.error().code == ApiErrorCode::kDegenerateFace);
+  CHECK(http_status(refused.error().code) == 422);
+}
+
 TEST_CASE("pipeline errors keep their codes") {
   const auto sphere = fixtures::icosphere(1);
   auto glb = write_plain_glb(core::IndexedMesh{sphere.positions, sphere.triangles});
@@ -346,6 +436,7 @@ TEST_CASE("pipeline errors keep their codes") {
   auto fin_glb = write_plain_glb(fin);
   REQUIRE(fin_glb.ok());
   params.extrema.indices = {2};
+  params.repair = false;
   out = run_seam_pipeline(*fin_glb, AssetKind::kAuto, params, {}, core::CancelToken::none());
   REQUIRE(!out.ok());
   CHECK((out.error().code == ApiErrorCode::kNonManifoldEdge || out.error().code == ApiErrorCode::kInconsistentOrientation));
