@@ -130,6 +130,75 @@ void repair(Canonical& c) {
   c.repairs = r.counts;
 }
 
+// What the builder refused, recounted over the whole soup in input numbering (the builder names
+// canonical elements and stops at 8), so the message, the count and `details` agree.
+constexpr std::size_t kListedElements = 100;
+
+json with_hint(json details, std::size_t count, const char* hint) {
+  details["count"] = count;
+  details["hint"] = hint;
+  return details;
+}
+
+ApiError degenerate_faces_error(const Canonical& canon, const PrimitiveData& data) {
+  std::vector<std::uint32_t> faces;
+  for (std::uint32_t f = 0; f < data.mesh.triangles.size(); ++f) {
+    const core::Triangle& t = canon.triangles[canon.input_to_face[f]];
+    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+    const auto& p = canon.positions;
+    if (repeated || (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).squaredNorm() == 0.0) faces.push_back(f);
+  }
+  if (faces.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder found a degenerate face, the recount none");
+  const core::Triangle& t = data.mesh.triangles[faces[0]];
+  const char* hint = "repair: true leaves them out of the topology and keeps them in the asset";
+  const std::size_t count = faces.size();
+  faces.resize(std::min(count, kListedElements));
+  return make_api_error(ApiErrorCode::kDegenerateFace,
+                        std::to_string(count) + (count == 1 ? " face is" : " faces are") +
+                            " degenerate after welding (a repeated vertex or zero area), first face " +
+                            std::to_string(faces[0]) + " (vertices " + std::to_string(t[0]) + ", " +
+                            std::to_string(t[1]) + ", " + std::to_string(t[2]) + "); " + hint,
+                        with_hint({{"faces", faces}}, count, hint));
+}
+
+// Edges of three or more faces (non_manifold), or of two faces traversing them the same way.
+ApiError edge_error(ApiErrorCode code, const Canonical& canon) {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;  // (undirected key, tail)
+  for (const auto& t : canon.triangles) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint64_t a = t[k], b = t[(k + 1) % 3];
+      uses.emplace_back((std::min(a, b) << 32) | std::max(a, b), t[k]);
+    }
+  }
+  std::sort(uses.begin(), uses.end());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i + 1;
+    while (j < uses.size() && uses[j].first == uses[i].first) ++j;
+    const bool bad = code == ApiErrorCode::kNonManifoldEdge ? j - i > 2 : j - i == 2 && uses[i].second == uses[i + 1].second;
+    if (bad) {
+      const std::uint32_t a = canon.vertex_to_input[uses[i].first >> 32];
+      const std::uint32_t b = canon.vertex_to_input[uses[i].first & 0xffffffffu];
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    i = j;
+  }
+  if (edges.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder refused an edge, the recount found none");
+  std::sort(edges.begin(), edges.end());
+  const std::size_t count = edges.size();
+  const bool fin = code == ApiErrorCode::kNonManifoldEdge;
+  const char* hint = fin ? "repair: true splits these edges into manifold sheets"
+                         : "repair: true reverses the faces that disagree with their sheet";
+  json listed = json::array();
+  for (std::size_t e = 0; e < std::min(count, kListedElements); ++e) listed.push_back({edges[e].first, edges[e].second});
+  return make_api_error(code,
+                        std::to_string(count) + (count == 1 ? " edge is " : " edges are ") +
+                            (fin ? "shared by three or more faces" : "traversed in the same direction by both of their faces (flipped faces)") +
+                            ", first the edge between vertices " + std::to_string(edges[0].first) + " and " +
+                            std::to_string(edges[0].second) + "; " + hint,
+                        with_hint({{"edges", std::move(listed)}}, count, hint));
+}
+
 // Core errors name canonical vertices or faces; the contract speaks in input indices.
 ApiError map_core_error(const core::Error& error, const Canonical& canon, core::ErrorCode code) {
   ApiError out = from_core(error);
@@ -227,6 +296,25 @@ ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const C
     }
   }
   return out;
+}
+
+// The builder's refusals in input numbering; the rest as the core says them.
+ApiError build_error(const core::Error& error, const Canonical& canon, const PrimitiveData& data) {
+  switch (error.code) {
+    case core::ErrorCode::kDegenerateFace: return degenerate_faces_error(canon, data);
+    case core::ErrorCode::kNonManifoldEdge: return edge_error(ApiErrorCode::kNonManifoldEdge, canon);
+    case core::ErrorCode::kInconsistentOrientation: return edge_error(ApiErrorCode::kInconsistentOrientation, canon);
+    case core::ErrorCode::kInvalidArgument:
+    case core::ErrorCode::kEmptyMesh:
+    case core::ErrorCode::kIndexOutOfRange:
+    case core::ErrorCode::kNonFinitePosition:
+    case core::ErrorCode::kNonManifoldVertex:
+    case core::ErrorCode::kTooManyTerminals:
+    case core::ErrorCode::kTopologyViolation:
+    case core::ErrorCode::kSolverFailed:
+    case core::ErrorCode::kCancelled: break;
+  }
+  return map_core_error(error, canon, error.code);
 }
 
 // The cost cap comes first: an over-long explicit list is refused before the asset is parsed.
@@ -354,7 +442,7 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
     if (params.repair) repair(canon);
     else split_pinched(canon);
     auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
-    if (!built.ok()) return map_core_error(built.error(), canon, built.error().code);
+    if (!built.ok()) return build_error(built.error(), canon, data);
     const core::HalfedgeMesh& mesh = *built;
     const core::Topology topology = core::compute_topology(mesh);
     timings["weld"] = ms_since(t);

@@ -417,6 +417,63 @@ TEST_CASE("repair by default: fin, flipped patch and collapsed faces give a disc
   CHECK(http_status(refused.error().code) == 422);
 }
 
+TEST_CASE("repair: false names the refused elements in input numbering, message and details agreeing") {
+  std::size_t patch = 0;
+  core::IndexedMesh soup = broken_sphere(patch);
+  SeamParams strict;
+  strict.repair = false;
+  auto refuse = [&](const core::IndexedMesh& m) {
+    const auto glb = write_plain_glb(m);
+    REQUIRE(glb.ok());
+    auto out = run_seam_pipeline(*glb, AssetKind::kAuto, strict, {}, core::CancelToken::none());
+    REQUIRE(!out.ok());
+    return out.take_error();
+  };
+  // The three collapsed faces are the last three input faces.
+  const auto n = static_cast<std::uint32_t>(soup.triangles.size());
+  ApiError e = refuse(soup);
+  CHECK(e.code == ApiErrorCode::kDegenerateFace);
+  CHECK(e.details["count"] == 3);
+  CHECK(e.details["faces"] == json::array({n - 3, n - 2, n - 1}));
+  const core::Triangle& first = soup.triangles[n - 3];
+  CHECK_MESSAGE(e.message.find("3 faces are degenerate") != std::string::npos, e.message);
+  CHECK_MESSAGE(e.message.find("face " + std::to_string(n - 3) + " (vertices " + std::to_string(first[0]) + ", ") !=
+                    std::string::npos,
+                e.message);
+  CHECK(e.details["hint"].get<std::string>().find("repair: true") != std::string::npos);
+
+  // Without them: the fin's edge, named by its input vertices (the first two of the fin face).
+  soup.triangles.resize(n - 3);
+  e = refuse(soup);
+  const core::Triangle fin_face = soup.triangles.back();
+  const auto a = std::min(fin_face[0], fin_face[1]), b = std::max(fin_face[0], fin_face[1]);
+  CHECK(e.code == ApiErrorCode::kNonManifoldEdge);
+  CHECK(e.details["count"] == 1);
+  CHECK(e.details["edges"] == json::array({json::array({a, b})}));
+  CHECK_MESSAGE(e.message.find("between vertices " + std::to_string(a) + " and " + std::to_string(b)) != std::string::npos,
+                e.message);
+
+  // Without the fin: every edge on the flipped patch's rim, counted and listed in input numbering.
+  soup.triangles.pop_back();
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (const auto& t : soup.triangles) {
+    for (std::size_t k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> rim;
+  for (const auto& [edge, uses] : directed) {
+    if (uses == 2) rim.emplace_back(std::min(edge.first, edge.second), std::max(edge.first, edge.second));
+  }
+  std::sort(rim.begin(), rim.end());
+  e = refuse(soup);
+  CHECK(e.code == ApiErrorCode::kInconsistentOrientation);
+  CHECK(e.details["count"] == rim.size());
+  REQUIRE(e.details["edges"].size() == rim.size());
+  for (std::size_t i = 0; i < rim.size(); ++i) {
+    CHECK(e.details["edges"][i] == json::array({rim[i].first, rim[i].second}));
+  }
+  CHECK_MESSAGE(e.message.find(std::to_string(rim.size()) + " edges are traversed") != std::string::npos, e.message);
+}
+
 TEST_CASE("pipeline errors keep their codes") {
   const auto sphere = fixtures::icosphere(1);
   auto glb = write_plain_glb(core::IndexedMesh{sphere.positions, sphere.triangles});
