@@ -148,7 +148,7 @@ ApiError usage_error(const std::string& parameter, std::string message) {
 }
 
 int fail(std::ostream& err, const ApiError& error, int code) {
-  err << error_body(error).dump() << "\n";
+  err << error_text(error) << "\n";
   err.flush();
   return code;
 }

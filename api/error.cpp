@@ -105,4 +105,8 @@ nlohmann::json error_body(const ApiError& error) {
   return {{"error", {{"code", code_name(error.code)}, {"message", error.message}, {"details", error.details}}}};
 }
 
+std::string error_text(const ApiError& error) {
+  return error_body(error).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 }  // namespace seam::api

@@ -65,6 +65,9 @@ int http_status(ApiErrorCode code);
 ApiError from_core(const core::Error& error);
 /// The one JSON error body: {"error": {"code", "message", "details"}}.
 nlohmann::json error_body(const ApiError& error);
+/// error_body as text. Messages may quote client bytes that are not UTF-8 (a media type, a
+/// field name): those are replaced by U+FFFD, never a throw (a 500 instead of the error).
+std::string error_text(const ApiError& error);
 
 inline ApiError make_api_error(ApiErrorCode code, std::string message,
                                nlohmann::json details = nlohmann::json::object()) {

@@ -408,7 +408,7 @@ std::optional<Refusal> FrontServer::body_failure(const httplib::Request& req) co
 
 void FrontServer::refuse(Connection& conn, const RequestHead* head, Refusal r) {
   if (hooks_.refused) hooks_.refused(head, r, conn.remote());
-  const auto body = api::error_body(r.error).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  const auto body = api::error_text(r.error);
   const int status = api::http_status(r.error.code);
   std::string out = "HTTP/1.1 " + std::to_string(status) + " " + reason_phrase(status) + "\r\n";
   out += "Content-Type: application/json\r\nConnection: close\r\n";

@@ -33,7 +33,7 @@ extern "C" void on_stop_signal(int) {
 int serve(int argc, char** argv) {
   auto parsed = seam::server::parse_config(argc, argv);
   if (!parsed.ok()) {
-    std::cerr << seam::api::error_body(parsed.error()).dump() << "\n";
+    std::cerr << seam::api::error_text(parsed.error()) << "\n";
     return 2;
   }
   if (parsed->help) {
@@ -49,7 +49,7 @@ int serve(int argc, char** argv) {
   seam::server::Server server(parsed->config);
   auto port = server.bind();
   if (!port.ok()) {
-    std::cerr << seam::api::error_body(port.error()).dump() << "\n";
+    std::cerr << seam::api::error_text(port.error()) << "\n";
     return 1;
   }
   std::thread signal_thread([&server] {

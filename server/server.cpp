@@ -171,7 +171,7 @@ struct Server::Impl {
 
   void send_error(const httplib::Request& req, httplib::Response& res, const ApiError& error) {
     res.status = api::http_status(error.code);
-    res.set_content(api::error_body(error).dump(), kJsonType);
+    res.set_content(api::error_text(error), kJsonType);
     with_record(req, [&](RequestRecord& r) { r.error_code = std::string(api::code_name(error.code)); });
     if (res.status >= 500 && res.status != 503 && res.status != 504) {
       log->error(nlohmann::json{{"event", "internal_error"},

@@ -335,3 +335,19 @@ TEST_CASE("hostile: cost caps before any work: --max-extrema") {
   CHECK(defaults.rss_kib() < 400 * 1024);
   check_alive(seamd);
 }
+
+TEST_CASE("hostile: client bytes that are not UTF-8 in an error message still give the typed error") {
+  // Found by request_fuzz / multipart_fuzz: the message quoted them and rendering threw (500).
+  Seamd seamd(limited_args());
+  const auto not_found = exchange(seamd.port(), "GET /\xff\xfe\xc3 HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n");
+  CHECK(status_of(not_found) == 404);
+  CHECK(error_code(not_found) == "not_found");
+  std::string key;
+  for (int i = 0; i < 40; ++i) key += "\xc3\xa9";  // 80 bytes of 'é': cut mid-character at 60
+  const auto bad_key = exchange(seamd.port(), multipart(sample_glb(), "{\"" + key + "\":1}"));
+  CHECK(status_of(bad_key) == 400);
+  CHECK(error_code(bad_key) == "invalid_parameter");
+  const auto media = exchange(seamd.port(), post_head(4, "model/\xff\xfe") + "abcd");
+  CHECK(status_of(media) == 415);
+  check_alive(seamd);
+}
