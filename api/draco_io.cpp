@@ -156,6 +156,13 @@ class BoundedMeshDecoder : public Base {
                              std::to_string(a->num_components()) + " components (glTF allows 1 to 4)");
         return false;
       }
+      // glTF has no boolean component type, and draco converts a stored bool by loading it as
+      // a C++ bool: a byte other than 0 or 1 is undefined behaviour (found by gltf_fuzz).
+      if (a->data_type() == draco::DT_BOOL || a->data_type() == draco::DT_INVALID) {
+        refusal_ = malformed("Draco attribute " + std::to_string(a->unique_id()) +
+                             " is of a data type glTF has no component type for (bool or invalid)");
+        return false;
+      }
       bytes_per_point += static_cast<std::size_t>(a->num_components()) *
                          static_cast<std::size_t>(std::max(0, draco::DataTypeLength(a->data_type())));
     }

@@ -233,3 +233,19 @@ TEST_CASE("draco: attributes wider than the read limit still encode (our output)
   REQUIRE(decoded.ok());
   CHECK(decoded->attributes.size() == 9);
 }
+
+TEST_CASE("draco: a bool attribute is refused before draco converts it (gltf_fuzz reproducer)") {
+  // A triangle whose generic attribute is DT_BOOL with the byte 0x02: draco's conversion
+  // loads it as a C++ bool, which is undefined behaviour.
+  const auto payload = sequential_payload(1, 3, {{draco::GeometryAttribute::GENERIC, draco::DT_BOOL, 1}});
+  auto decoded = decode(payload);
+  REQUIRE_FALSE(decoded.ok());
+  CHECK(decoded.error().code == ApiErrorCode::kMalformedAsset);
+  CHECK(decoded.error().message.find("bool") != std::string::npos);
+  const std::string path = std::string(SEAM_SOURCE_DIR) + "/tests/fuzz/regressions/gltf/draco_bool_attribute.drc";
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  auto reproducer = decode(bytes);
+  CHECK_FALSE(reproducer.ok());
+}
