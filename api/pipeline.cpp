@@ -381,8 +381,14 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
   };
   SEAM_TRY(const std::size_t explicit_count, explicit_extrema_count(spec, limits.max_extrema));
   std::vector<core::VertexId> result;
+  // Copies of one input vertex (pinched or repaired splits) are one extremum: the response
+  // names input vertices, and it never names one twice.
   auto add = [&](core::VertexId v) {
-    if (std::find(result.begin(), result.end(), v) == result.end()) result.push_back(v);
+    const std::uint32_t input = canon.vertex_to_input[v.index()];
+    if (std::none_of(result.begin(), result.end(),
+                     [&](core::VertexId u) { return canon.vertex_to_input[u.index()] == input; })) {
+      result.push_back(v);
+    }
   };
   if (spec.automatic) {
     std::vector<core::VertexId> excluded;
@@ -507,9 +513,17 @@ ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, Asse
       for (const auto& [a, b] : pairs) out.push_back({a, b});
       return out;
     };
+    // In input numbering, first occurrence kept: copies of one input vertex (splits, cut) are
+    // listed once.
     auto vertex_list = [&](const std::vector<core::VertexId>& vs) {
       json out = json::array();
-      for (auto v : vs) out.push_back(input_of(v));
+      std::vector<std::uint32_t> seen;
+      for (auto v : vs) {
+        const std::uint32_t i = input_of(v);
+        if (std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
+        seen.push_back(i);
+        out.push_back(i);
+      }
       return out;
     };
     json polylines = json::array();

@@ -441,11 +441,52 @@ Status validate(const ExtremaOptions& options) {
                       "extrema min_protrusion must be a finite number >= 0, got " +
                           std::to_string(options.min_protrusion));
   }
+  for (const auto& [name, value] : {std::pair<const char*, double>{"min_separation", options.min_separation},
+                                     {"small_part", options.small_part},
+                                     {"small_part_protrusion", options.small_part_protrusion}}) {
+    if (!std::isfinite(value) || value < 0) {
+      return make_error(ErrorCode::kInvalidArgument,
+                        std::string("extrema ") + name + " must be a finite number >= 0, got " + std::to_string(value));
+    }
+  }
   if (options.samples < 2) {
     return make_error(ErrorCode::kInvalidArgument,
                       "extrema samples must be >= 2, got " + std::to_string(options.samples));
   }
   return Ok{};
+}
+
+// The diagonal of the bounding box of `vertices`.
+double bbox_diagonal(const HalfedgeMesh& mesh, std::span<const std::uint32_t> vertices) {
+  if (vertices.empty()) return 0;
+  Eigen::AlignedBox3d box;
+  for (auto v : vertices) box.extend(mesh.position(VertexId(v)));
+  return box.diagonal().norm();
+}
+
+// `peaks` (most prominent first) without those within `radius` (geodesic) of a kept one; at
+// most `max_count` (0: no limit). One Dijkstra bounded by the radius per candidate.
+Result<std::vector<Peak>> separated(const EdgeGraph& graph, const Component& comp, std::vector<Peak> peaks,
+                                    double radius, std::size_t max_count, const CancelToken& cancel) {
+  std::vector<Peak> kept;
+  std::vector<std::uint8_t> is_kept(graph.num_vertices(), 0);
+  for (const Peak& p : peaks) {
+    if (max_count > 0 && kept.size() >= max_count) break;
+    const VertexId v(comp.vertices[p.local]);
+    if (is_kept[v.index()]) continue;  // never one vertex twice (coarse cells share seeds)
+    bool near = false;
+    if (radius > 0 && !kept.empty()) {
+      DijkstraOptions options;
+      options.max_distance = radius;
+      SEAM_TRY(const ShortestPathTree tree, dijkstra(graph, std::span<const VertexId>(&v, 1), options, cancel));
+      near = std::any_of(kept.begin(), kept.end(),
+                         [&](const Peak& k) { return tree.distance[comp.vertices[k.local]] < radius; });
+    }
+    if (near) continue;
+    is_kept[v.index()] = 1;
+    kept.push_back(p);
+  }
+  return kept;
 }
 
 }  // namespace
@@ -461,6 +502,9 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOpti
   const std::vector<Component> components = collect_components(mesh, topo, area);
   const EdgeGraph graph = build_edge_graph(mesh);
   std::vector<std::uint32_t> local_of(mesh.num_vertices(), VertexId::kInvalidValue);
+  std::vector<double> diagonals(components.size());
+  for (std::size_t c = 0; c < components.size(); ++c) diagonals[c] = bbox_diagonal(mesh, components[c].vertices);
+  const double largest_diagonal = diagonals.empty() ? 0 : *std::max_element(diagonals.begin(), diagonals.end());
 
   for (std::size_t c = 0; c < components.size(); ++c) {
     const Component& comp = components[c];
@@ -474,11 +518,19 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOpti
     result.stats.samples += used;
     if (cancel.is_cancelled()) return cancelled_error("extrema detection");
     result.stats.local_maxima += peaks.size();
+    const double diagonal = diagonals[c];
+    // A small closed part whose most prominent tip is below small_part_protrusion has no real
+    // protrusion: its "tips" are corners, and it is only cut to a disc.
+    const bool small_part = topo.components[c].boundary_loops == 0 && diagonal < options.small_part * largest_diagonal;
+    const bool protrudes = std::any_of(peaks.begin(), peaks.end(),
+                                       [&](const Peak& p) { return p.prominence >= options.small_part_protrusion; });
+    if (small_part && !protrudes) peaks.clear();
     std::erase_if(peaks, [&](const Peak& p) { return p.prominence < options.min_protrusion; });
     std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) {
       return a.prominence != b.prominence ? a.prominence > b.prominence : a.local < b.local;
     });
-    if (options.max_count > 0 && peaks.size() > options.max_count) peaks.resize(options.max_count);
+    SEAM_TRY(peaks, separated(graph, comp, std::move(peaks), options.min_separation * diagonal, options.max_count,
+                              cancel));
     for (const Peak& p : peaks) {
       Extremum e;
       e.vertex = VertexId(comp.vertices[p.local]);

@@ -62,6 +62,20 @@ struct ExtremaOptions {
   /// component's vertex count). More samples: a smoother f at a linear cost in time.
   /// Must be >= 2.
   std::size_t samples = 16;
+  /// Tips closer than this fraction of their component's bounding-box diagonal (geodesic
+  /// distance on the edge graph) to a more prominent kept tip are dropped, so one tube end
+  /// or one corner never carries several tips. 0 keeps them all. Must be finite and >= 0.
+  double min_separation = 0.05;
+  /// A closed component (no boundary) whose bounding-box diagonal is below this fraction of
+  /// the largest component's is a small part (a screw, a bracket of a machine). When none of
+  /// its tips reaches small_part_protrusion it has no real protrusion (its "tips" would be
+  /// corners) and gets none: it is only cut to a disc. A small part that does protrude (a
+  /// spiky ball, a rod) keeps its tips as any component. 0 disables. Finite and >= 0.
+  double small_part = 0.25;
+  /// The prominence one tip of a small part needs for the part to count as protruding;
+  /// measured in tests/core/extrema_test.cpp ("small closed parts"): the corners of a flat
+  /// plate part reach 0.11, the ends of an 8:1 rod 0.29. Finite and >= 0.
+  double small_part_protrusion = 0.15;
   /// Threads for the per-source Dijkstra runs (0 = hardware concurrency); components under
   /// 10k vertices (or cells) use one. The result does not depend on it (bit-identical).
   unsigned threads = 0;
@@ -90,9 +104,13 @@ struct ExtremaResult {
 
 /// Detects protrusion tips on every component with their prominence (method above).
 /// Preconditions: `mesh` came from build_halfedge_mesh. Isolated vertices are ignored.
-/// Errors: kInvalidArgument (min_protrusion negative or not finite, samples < 2), kCancelled.
+/// Never returns one vertex twice; kept tips of one component are at least min_separation
+/// apart (geodesic); small closed parts without a tip of small_part_protrusion get none.
+/// Errors: kInvalidArgument (min_protrusion, min_separation, small_part or
+/// small_part_protrusion negative or not finite, samples < 2), kCancelled.
 /// Complexity: O(samples * E log V) for the geodesic sources (divided among `threads`) plus
-/// O(V log V) for the merge tree; memory O(threads * V).
+/// O(V log V) for the merge tree, plus one Dijkstra bounded by the separation radius per
+/// candidate tip (O(V) memory each); memory O(threads * V).
 Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOptions& options = {},
                                      const CancelToken& cancel = CancelToken::none());
 

@@ -37,6 +37,11 @@ P3 key(const core::Vec3& p) { return {static_cast<float>(p.x()), static_cast<flo
 PipelineOutput run_ok(const std::string& asset, const SeamParams& params) {
   auto out = run_seam_pipeline(asset, AssetKind::kAuto, params, {}, core::CancelToken::none());
   REQUIRE_MESSAGE(out.ok(), (out.ok() ? "" : out.error().message));
+  // Never one input vertex twice among the extrema or the terminals (issue 11 item 5).
+  for (const char* list : {"extrema", "terminals"}) {
+    const auto& ids = out->body["seam"][list];
+    CHECK_MESSAGE(std::set<std::uint32_t>(ids.begin(), ids.end()).size() == ids.size(), list << ": " << ids.dump());
+  }
   return std::move(out).value();
 }
 

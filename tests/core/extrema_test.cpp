@@ -98,7 +98,7 @@ TEST_CASE("extrema: a round shape has no protrusion") {
 
 TEST_CASE("extrema: min_protrusion 0 keeps every local maximum of the AGD, each a strict local maximum") {
   const HalfedgeMesh mesh = build(fx::icosphere(3));
-  const auto result = detect(mesh, {.min_protrusion = 0, .max_count = 0});
+  const auto result = detect(mesh, {.min_protrusion = 0, .max_count = 0, .min_separation = 0});
   CHECK(result.extrema.size() == result.stats.local_maxima);
   auto field = average_geodesic_distance(mesh, ExtremaOptions{}.samples);
   REQUIRE(field.ok());
@@ -226,6 +226,109 @@ TEST_CASE("extrema: max_count keeps the most prominent; isolated vertices are ig
   auto plain = find_extrema(mesh);
   REQUIRE(plain.ok());
   CHECK(*plain == vertices_of(all.extrema));
+}
+
+namespace {
+
+// A box part: an icosphere pushed out onto the cube [-1, 1]^3, scaled and moved.
+fx::Soup box_part(double size, const Vec3& at) {
+  fx::Soup s = fx::icosphere(2);
+  for (auto& p : s.positions) p = p / p.cwiseAbs().maxCoeff() * size + at;
+  return s;
+}
+
+// A rod part: an icosphere stretched 8:1 along z, scaled and moved.
+fx::Soup rod_part(double size, const Vec3& at) {
+  fx::Soup s = fx::icosphere(2);
+  for (auto& p : s.positions) p = Vec3(p.x(), p.y(), 8 * p.z()) * size + at;
+  return s;
+}
+
+double geodesic(const HalfedgeMesh& mesh, VertexId a, VertexId b) {
+  const EdgeGraph graph = build_edge_graph(mesh);
+  auto tree = dijkstra(graph, std::span<const VertexId>(&a, 1));
+  REQUIRE(tree.ok());
+  return tree->distance[b.index()];
+}
+
+}  // namespace
+
+// A plate part: an icosphere pushed out onto the box [-1, 1] x [-0.5, 0.5] x [-0.1, 0.1].
+fx::Soup plate_part(double size, const Vec3& at) {
+  fx::Soup s = box_part(1, Vec3(0, 0, 0));
+  for (auto& p : s.positions) p = Vec3(p.x(), 0.5 * p.y(), 0.1 * p.z()) * size + at;
+  return s;
+}
+
+TEST_CASE("extrema: small closed parts: boxes and plates get none, a rod its two ends; the body keeps its tips") {
+  // The hand and, beside it, 6 boxes, 6 plates and one rod, each well under a quarter of the
+  // hand's diagonal.
+  fx::Soup soup = hand().soup;
+  for (int i = 0; i < 12; ++i) {
+    const Vec3 at(4 + 0.5 * (i % 4), 0.5 * (i / 4), 0);
+    soup = fx::join(soup, i < 6 ? box_part(0.1, at) : plate_part(0.15, at));
+  }
+  soup = fx::join(soup, fx::translated(rod_part(0.05, Vec3(0, 0, 0)), Vec3(4, -1, 0)));
+  const HalfedgeMesh mesh = build(soup);
+  const Topology topo = compute_topology(mesh);
+  REQUIRE(topo.components.size() == 14);
+  // Measured without the small-part rule: the prominences the rule separates.
+  const auto loose = detect(mesh, {.min_protrusion = 0.0, .small_part = 0});
+  double part_max = 0, rod_max = 0;
+  for (const auto& e : loose.extrema) {
+    if (e.component == 0) continue;
+    if (e.component == 13) rod_max = std::max(rod_max, e.prominence);
+    else part_max = std::max(part_max, e.prominence);
+  }
+  MESSAGE("box and plate corners: prominence up to " << part_max << "; rod ends: up to " << rod_max);
+  CHECK(part_max < ExtremaOptions{}.small_part_protrusion);
+  CHECK(rod_max >= ExtremaOptions{}.small_part_protrusion);
+
+  const auto result = detect(mesh);
+  std::vector<Extremum> body, rod;
+  for (const auto& e : result.extrema) {
+    CHECK((e.component == 0 || e.component == 13));  // no tip on any box or plate
+    (e.component == 0 ? body : rod).push_back(e);
+  }
+  check_same_tips(mesh, body, hand().tips, 0.3);
+  REQUIRE(rod.size() == 2);
+  CHECK(std::abs(mesh.position(rod[0].vertex).z() - mesh.position(rod[1].vertex).z()) > 0.6);  // both ends
+}
+
+TEST_CASE("extrema: never a vertex twice, and kept tips of a component at least min_separation apart") {
+  const HalfedgeMesh mesh = build(fx::join(box_part(1, Vec3(0, 0, 0)), fx::icosphere(3)));
+  for (double separation : {0.05, 0.2, 0.5}) {
+    CAPTURE(separation);
+    const auto result = detect(mesh, {.min_protrusion = 0, .max_count = 0, .min_separation = separation});
+    const auto all = detect(mesh, {.min_protrusion = 0, .max_count = 0, .min_separation = 0});
+    CHECK(result.extrema.size() <= all.extrema.size());
+    if (separation >= 0.2) CHECK(result.extrema.size() < all.extrema.size());
+    const Topology topo = compute_topology(mesh);
+    for (std::size_t i = 0; i < result.extrema.size(); ++i) {
+      for (std::size_t j = i + 1; j < result.extrema.size(); ++j) {
+        const Extremum &a = result.extrema[i], &b = result.extrema[j];
+        CHECK(a.vertex != b.vertex);
+        if (a.component != b.component) continue;
+        std::vector<std::uint32_t> comp;
+        for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+          if (topo.vertex_component[VertexId(v)] == a.component) comp.push_back(v);
+        }
+        Eigen::AlignedBox3d box;
+        for (auto v : comp) box.extend(mesh.position(VertexId(v)));
+        CHECK(geodesic(mesh, a.vertex, b.vertex) >= separation * box.diagonal().norm());
+      }
+    }
+  }
+}
+
+TEST_CASE("extrema: the new options out of range are refused") {
+  const HalfedgeMesh mesh = build(fx::tetrahedron());
+  for (const ExtremaOptions& bad : {ExtremaOptions{.min_separation = -1}, ExtremaOptions{.small_part = std::nan("")},
+                                    ExtremaOptions{.small_part_protrusion = -0.1}}) {
+    auto r = detect_extrema(mesh, bad);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == ErrorCode::kInvalidArgument);
+  }
 }
 
 TEST_CASE("extrema: a cancelled token stops detection with kCancelled") {
