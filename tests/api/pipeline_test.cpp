@@ -422,6 +422,37 @@ TEST_CASE("repair by default: fin, flipped patch and collapsed faces give a disc
   CHECK(http_status(refused.error().code) == 422);
 }
 
+TEST_CASE("40 small closed plates beside a rod in one primitive: tips only on the rod, each plate cut to a disc") {
+  // The rod: an icosphere stretched 8:1 (vertices first, so its input indices come first).
+  fixtures::Soup soup = fixtures::icosphere(3);
+  for (auto& p : soup.positions) p = core::Vec3(p.x(), p.y(), 8 * p.z());
+  const std::size_t rod_vertices = soup.positions.size();
+  for (int i = 0; i < 40; ++i) {
+    fixtures::Soup plate = fixtures::icosphere(2);
+    for (auto& p : plate.positions) {
+      p = p / p.cwiseAbs().maxCoeff();
+      p = core::Vec3(p.x(), 0.5 * p.y(), 0.1 * p.z()) * 0.4 + core::Vec3(3 + (i % 8), 0, -4 + 2 * (i / 8));
+    }
+    soup = fixtures::join(soup, plate);
+  }
+  const auto glb = write_plain_glb(core::IndexedMesh{soup.positions, soup.triangles});
+  REQUIRE(glb.ok());
+  const auto t0 = std::chrono::steady_clock::now();
+  const PipelineOutput out = run_ok(*glb, SeamParams{});
+  MESSAGE("rod + 40 plates (" << soup.triangles.size() << " faces): "
+                              << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()
+                              << " ms, extrema " << out.body["seam"]["extrema"].dump());
+  const json& body = out.body;
+  CHECK(body["mesh"]["components"] == 41);
+  REQUIRE(body["seam"]["extrema"].size() == 2);  // the rod's two ends
+  for (const auto& v : body["seam"]["extrema"]) CHECK(v.get<std::size_t>() < rod_vertices);
+  CHECK(body["cut"]["euler_characteristic"] == 41);
+  CHECK(body["cut"]["boundary_loops"] == 41);
+  CHECK(body["uv"]["flipped"] == 0);
+  std::string report;
+  CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "plates.glb") == 0, report);
+}
+
 TEST_CASE("repair: false names the refused elements in input numbering, message and details agreeing") {
   std::size_t patch = 0;
   core::IndexedMesh soup = broken_sphere(patch);
