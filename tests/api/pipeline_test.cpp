@@ -550,10 +550,10 @@ TEST_CASE("pipeline errors keep their codes") {
 TEST_CASE("parameters from JSON and from the query string agree") {
   auto a = params_from_json(json{{"extrema", {12, 345, 678}}, {"method", "mst"}, {"uv", "none"}, {"output", "glb"},
                                  {"draco", true}, {"weld_epsilon", 0.001}, {"mesh", 1}, {"primitive", 2},
-                                 {"refine", false}});
+                                 {"refine", false}, {"repair", false}});
   auto b = params_from_query({{"extrema", "12,345,678"}, {"method", "mst"}, {"uv", "none"}, {"output", "glb"},
                               {"draco", "true"}, {"weld_epsilon", "0.001"}, {"mesh", "1"}, {"primitive", "2"},
-                              {"refine", "0"}});
+                              {"refine", "0"}, {"repair", "false"}});
   for (auto* p : {&a, &b}) {
     REQUIRE(p->ok());
     CHECK(!(*p)->extrema.automatic);
@@ -566,12 +566,14 @@ TEST_CASE("parameters from JSON and from the query string agree") {
     CHECK((*p)->mesh == 1);
     CHECK((*p)->primitive == 2);
     CHECK((*p)->refine == false);
+    CHECK((*p)->repair == false);
   }
   auto defaults = params_from_json(json::object());
   REQUIRE(defaults.ok());
   CHECK(defaults->extrema.automatic);
   CHECK(defaults->method == core::SeamMethod::kSkeleton);
   CHECK(defaults->refine == true);
+  CHECK(defaults->repair == true);
   CHECK(defaults->uv == core::UvOptions{}.method);
   CHECK(defaults->uv == core::UvMethod::kSlim);
   // Every method by name, in both forms.
@@ -595,7 +597,7 @@ TEST_CASE("parameters from JSON and from the query string agree") {
   CHECK(with_exclude->extrema.exclude == std::vector<std::uint32_t>{9});
 
   for (const json& bad : {json{{"extrema", {-1}}}, json{{"extrema", "some"}}, json{{"method", "best"}},
-                          json{{"uv", 3}}, json{{"weld_epsilon", -1}}, json{{"draco", "yes"}}, json{{"typo", 1}}, json{{"refine", 1}},
+                          json{{"uv", 3}}, json{{"weld_epsilon", -1}}, json{{"draco", "yes"}}, json{{"typo", 1}}, json{{"refine", 1}}, json{{"repair", "no"}},
                           json{{"extrema", json::array()}}, json{{"extrema", {{{"position", {1, 2}}}}}}}) {
     CAPTURE(bad.dump());
     auto r = params_from_json(bad);
@@ -604,7 +606,7 @@ TEST_CASE("parameters from JSON and from the query string agree") {
   }
   for (const auto& bad : std::vector<std::vector<std::pair<std::string, std::string>>>{
            {{"extrema", "1,,2"}}, {{"extrema", "x"}}, {{"mesh", "-1"}}, {{"weld_epsilon", "1e"}},
-           {{"method", "mst"}, {"method", "greedy"}}, {{"nope", "1"}}, {{"refine", "maybe"}}}) {
+           {{"method", "mst"}, {"method", "greedy"}}, {{"nope", "1"}}, {{"refine", "maybe"}}, {{"repair", "off"}}}) {
     auto r = params_from_query(bad);
     REQUIRE(!r.ok());
     CHECK(r.error().code == ApiErrorCode::kInvalidParameter);
