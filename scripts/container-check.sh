@@ -11,7 +11,8 @@
 # --clean removes the state folder (images, containers, ~6 GB) and exits.
 #
 # Prerequisites (installed here when missing, from Debian): podman buildah runc
-# docker-compose debootstrap yamllint curl wrk; node + npm for the manifest schemas
+# golang-github-containernetworking-plugin-dnsname docker-compose debootstrap yamllint curl
+# wrk; node + npm for the manifest schemas
 # (scripts/install-deps.sh --test).
 #
 # This machine kind has no container registry and hybrid cgroups, so: the base image is made
@@ -68,7 +69,9 @@ export CONTAINERS_CONF="$state/containers.conf" CONTAINERS_STORAGE_CONF="$state/
 printf 'export CONTAINERS_CONF=%q CONTAINERS_STORAGE_CONF=%q\n' "$CONTAINERS_CONF" "$CONTAINERS_STORAGE_CONF" > "$state/env.sh"
 
 missing=()
-for pkg in podman buildah runc docker-compose debootstrap yamllint curl wrk; do
+# golang-github-containernetworking-plugin-dnsname: podman 4.3's CNI backend resolves compose
+# service names (nginx's upstream "seamd") only with it.
+for pkg in podman buildah runc golang-github-containernetworking-plugin-dnsname docker-compose debootstrap yamllint curl wrk; do
   dpkg-query -W -f='${Status}' "$pkg" 2> /dev/null | grep -q "install ok installed" || missing+=("$pkg")
 done
 if ((${#missing[@]})); then
@@ -159,8 +162,11 @@ if (( compose_up )); then
   export DOCKER_HOST="unix://$sock"
   compose=(docker-compose --compatibility -f docker/compose.yaml)
   glb="$state/sample.glb"
+  # The seamd image is the one built above; only the nginx image is built here (a build through
+  # the API socket would not reuse buildah's layers and take the whole compile again).
+  "${compose[@]}" build lb > "$state/compose.log" 2>&1 || bad "docker-compose build lb failed ($state/compose.log)"
   for replicas in 3 1 2; do
-    if ! "${compose[@]}" up -d --build --scale "seamd=$replicas" > "$state/compose.log" 2>&1; then
+    if ! "${compose[@]}" up -d --no-build --scale "seamd=$replicas" >> "$state/compose.log" 2>&1; then
       bad "docker-compose up ($replicas replicas) failed"; tail -20 "$state/compose.log"; break
     fi
     up=0

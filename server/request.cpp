@@ -180,4 +180,53 @@ bool accepts_glb(std::string_view accept) {
   return false;
 }
 
+api::ApiError unsupported_media_type(std::string_view media) {
+  const std::string shown(media.substr(0, 100));
+  return api::make_api_error(api::ApiErrorCode::kUnsupportedMediaType,
+                             "unsupported Content-Type '" + shown +
+                                 "': use multipart/form-data, application/json, model/gltf-binary, model/gltf+json or "
+                                 "application/octet-stream",
+                             {{"content_type", shown}});
+}
+
+api::ApiResult<SeamRequest> decode_seam_request(const SeamRequestParts& parts) {
+  using api::ApiErrorCode;
+  using api::make_api_error;
+  const auto media = media_type(parts.content_type);
+  if (media == "multipart/form-data") {
+    if (!parts.mesh) {
+      return make_api_error(ApiErrorCode::kMalformedRequest,
+                            "multipart request without a 'mesh' part: curl -F mesh=@asset.glb ...");
+    }
+    SeamRequest out;
+    const auto kind = asset_kind_for_media_type(media_type(parts.mesh->content_type));
+    out.kind = kind ? *kind : api::AssetKind::kAuto;  // curl labels files by extension, or not at all
+    out.asset = std::string(parts.mesh->content);
+    if (parts.params) {
+      if (!parts.query.empty()) {
+        return make_api_error(ApiErrorCode::kInvalidParameter,
+                              "parameters given both in the params part and in the query string; use one");
+      }
+      SEAM_TRY(out.params, parse_params_part(parts.params->content));
+    } else {
+      SEAM_TRY(out.params, parse_query_params(parts.query));
+    }
+    return out;
+  }
+  if (media == "application/json") {
+    if (!parts.query.empty()) {
+      return make_api_error(ApiErrorCode::kInvalidParameter,
+                            "with a JSON body the parameters go in the body, not the query string");
+    }
+    return parse_json_request(parts.body);
+  }
+  const auto kind = asset_kind_for_media_type(media);
+  if (!kind) return unsupported_media_type(media);
+  SeamRequest out;
+  out.kind = *kind;
+  out.asset = std::string(parts.body);
+  SEAM_TRY(out.params, parse_query_params(parts.query));
+  return out;
+}
+
 }  // namespace seam::server

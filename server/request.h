@@ -36,6 +36,30 @@ std::string encode_base64(std::string_view bytes);
 /// nullopt for media types the service does not take (the caller answers 415).
 std::optional<api::AssetKind> asset_kind_for_media_type(std::string_view media);
 
+/// One part of a multipart/form-data body.
+struct FormPart {
+  std::string_view content;
+  std::string_view content_type;  ///< as sent, e.g. "model/gltf-binary" (may be empty)
+};
+
+/// What POST /seam reads of an HTTP request, without the HTTP library.
+struct SeamRequestParts {
+  std::string_view content_type;  ///< the request's Content-Type header
+  std::vector<std::pair<std::string, std::string>> query;
+  std::string_view body;                ///< the raw body (forms 2 and 3)
+  std::optional<FormPart> mesh;         ///< multipart "mesh" part (form 1)
+  std::optional<FormPart> params;       ///< multipart "params" part (form 1)
+};
+
+/// The three request forms of API.md, chosen by the Content-Type: multipart (mesh part, params
+/// part or query), JSON body (no query), or the asset as the body (query parameters).
+/// Errors: kMalformedRequest (no mesh part, bad JSON or base64), kInvalidParameter (params in
+/// two places, bad values), kUnsupportedMediaType (another Content-Type). O(body).
+api::ApiResult<SeamRequest> decode_seam_request(const SeamRequestParts& parts);
+
+/// The 415 for a media type POST /seam does not take (also used before the body is read).
+api::ApiError unsupported_media_type(std::string_view media);
+
 /// Form 2: `{"mesh": {"glb_base64": "..."} | {"gltf": {...}}, ...parameters}`.
 /// Errors: kMalformedRequest (bad JSON; JSON nested deeper than api::kMaxJsonDepth anywhere,
 /// checked while parsing; no mesh; bad base64), whatever params_from_json returns.

@@ -195,15 +195,7 @@ struct Server::Impl {
     if (head.method != "POST" || head.path != "/seam") return std::nullopt;
     const auto media = media_type(head.field("Content-Type").value_or(""));
     if (media == "multipart/form-data" || media == "application/json" || asset_kind_for_media_type(media)) return std::nullopt;
-    return Refusal{unsupported_media(media), {}};
-  }
-
-  static ApiError unsupported_media(const std::string& media) {
-    return make_api_error(ApiErrorCode::kUnsupportedMediaType,
-                          "unsupported Content-Type '" + media.substr(0, 100) +
-                              "': use multipart/form-data, application/json, model/gltf-binary, model/gltf+json or "
-                              "application/octet-stream",
-                          {{"content_type", media.substr(0, 100)}});
+    return Refusal{unsupported_media_type(media), {}};
   }
 
   // A request the front answered itself: the same request id, access log line and metrics as
@@ -233,44 +225,20 @@ struct Server::Impl {
 
   // ---- POST /seam ----------------------------------------------------------------------
 
-  api::ApiResult<SeamRequest> decode(const httplib::Request& req) {
-    const auto media = media_type(req.get_header_value("Content-Type"));
-    std::vector<std::pair<std::string, std::string>> query(req.params.begin(), req.params.end());
-    if (media == "multipart/form-data") {
-      if (!req.has_file("mesh")) {
-        return make_api_error(ApiErrorCode::kMalformedRequest,
-                              "multipart request without a 'mesh' part: curl -F mesh=@asset.glb ...");
-      }
-      SeamRequest out;
-      const auto mesh = req.get_file_value("mesh");
-      const auto kind = asset_kind_for_media_type(media_type(mesh.content_type));
-      out.kind = kind ? *kind : api::AssetKind::kAuto;  // curl labels files by extension, or not at all
-      out.asset = mesh.content;
-      if (req.has_file("params")) {
-        if (!query.empty()) {
-          return make_api_error(ApiErrorCode::kInvalidParameter,
-                                "parameters given both in the params part and in the query string; use one");
-        }
-        SEAM_TRY(out.params, parse_params_part(req.get_file_value("params").content));
-      } else {
-        SEAM_TRY(out.params, parse_query_params(query));
-      }
-      return out;
+  static api::ApiResult<SeamRequest> decode(const httplib::Request& req) {
+    const std::string content_type = req.get_header_value("Content-Type");  // parts views it
+    SeamRequestParts parts{.content_type = content_type,
+                           .query = {req.params.begin(), req.params.end()},
+                           .body = req.body};
+    if (req.has_file("mesh")) {
+      const auto& file = req.files.find("mesh")->second;
+      parts.mesh = FormPart{file.content, file.content_type};
     }
-    if (media == "application/json") {
-      if (!query.empty()) {
-        return make_api_error(ApiErrorCode::kInvalidParameter,
-                              "with a JSON body the parameters go in the body, not the query string");
-      }
-      return parse_json_request(req.body);
+    if (req.has_file("params")) {
+      const auto& file = req.files.find("params")->second;
+      parts.params = FormPart{file.content, file.content_type};
     }
-    const auto kind = asset_kind_for_media_type(media);
-    if (!kind) return unsupported_media(media);
-    SeamRequest out;
-    out.kind = *kind;
-    out.asset = req.body;
-    SEAM_TRY(out.params, parse_query_params(query));
-    return out;
+    return decode_seam_request(parts);
   }
 
   void handle_seam(const httplib::Request& req, httplib::Response& res) {
