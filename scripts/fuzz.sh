@@ -4,9 +4,12 @@
 #   scripts/fuzz.sh [seconds]        every target for `seconds` (default 60) over a scratch copy
 #                                    of its committed corpus plus its regression inputs (CI)
 #   scripts/fuzz.sh --campaign RUNS  the long campaign: RUNS executions in all, split evenly
-#                                    across the targets (-runs per target); the new inputs are
-#                                    merged back, minimized (-merge=1), into the committed
-#                                    corpora
+#                                    across the targets (-runs per target); then the committed
+#                                    corpora are minimized with what the runs found
+#   scripts/fuzz.sh --minimize       only that minimization
+# Minimizing keeps the hand-written seeds (files not named by a SHA-1) and, of every other
+# input, committed or new, a small set that covers the same edges (-merge=1 -use_counters=0:
+# edges, not hit counts, so that a corpus stays a few hundred files).
 # Targets run ${SEAM_JOBS:-2} at a time. A crash, leak, timeout, out-of-memory or sanitizer
 # report fails the run (exit 1) and leaves the reproducer in build/fuzz/artifacts, named after
 # its target. Per target: executions, executions per second, seconds, corpus size, findings.
@@ -22,10 +25,13 @@ jobs="${SEAM_JOBS:-2}"
 read -r -a targets <<<"${SEAM_FUZZ_TARGETS:-gltf_fuzz http_head_fuzz request_fuzz multipart_fuzz}"
 
 campaign=0
+minimize_only=0
 if [[ "${1:-}" == "--campaign" ]]; then
   campaign=1
   total_runs="${2:?usage: scripts/fuzz.sh --campaign RUNS}"
   per_target=$(( (total_runs + ${#targets[@]} - 1) / ${#targets[@]} ))
+elif [[ "${1:-}" == "--minimize" ]]; then
+  minimize_only=1
 else
   seconds="${1:-60}"
 fi
@@ -62,6 +68,28 @@ run_target() {
   echo "$rc $(( $(date +%s) - t0 ))" >"$build/logs/$t.status"
 }
 
+# The committed corpus of target $1, minimized together with its campaign work directory.
+minimize() {
+  local t="$1" committed out="$build/minimized/$1" sha='.*/[0-9a-f]{40}'
+  committed="$(corpus_of "$t")"
+  rm -rf "$out" && mkdir -p "$out"
+  find "$committed" -maxdepth 1 -type f -regextype posix-extended ! -regex "$sha" -exec cp {} "$out/" \;
+  local inputs=("$committed")
+  (( campaign )) && inputs+=("$build/work/$t")
+  "$build/$t" -merge=1 -use_counters=0 -max_len="$(max_len_of "$t")" -timeout=10 -rss_limit_mb=2048 \
+    -artifact_prefix="$build/artifacts/$t-merge-" "$out" "${inputs[@]}" >"$build/logs/$t.merge.log" 2>&1
+  local before
+  before=$(ls "$committed" | wc -l)
+  find "$committed" -maxdepth 1 -type f -regextype posix-extended -regex "$sha" -delete
+  find "$out" -maxdepth 1 -type f -regextype posix-extended -regex "$sha" -exec cp {} "$committed/" \;
+  echo "fuzz: $t: $(echo "$committed" | sed "s|$root/||") minimized from $before to $(ls "$committed" | wc -l) files"
+}
+
+if (( minimize_only )); then
+  for t in "${targets[@]}"; do minimize "$t"; done
+  exit 0
+fi
+
 for t in "${targets[@]}"; do
   while (( $(jobs -rp | wc -l) >= jobs )); do wait -n || true; done
   echo "fuzz: $t ..."
@@ -69,15 +97,8 @@ for t in "${targets[@]}"; do
 done
 wait
 
-# Campaign: merge what the runs found into the committed corpora, keeping only inputs that
-# add coverage (the hand-written seeds stay).
 if (( campaign )); then
-  for t in "${targets[@]}"; do
-    before=$(ls "$(corpus_of "$t")" | wc -l)
-    "$build/$t" -merge=1 -max_len="$(max_len_of "$t")" -timeout=10 -rss_limit_mb=2048 \
-      -artifact_prefix="$build/artifacts/$t-merge-" "$(corpus_of "$t")" "$build/work/$t" >"$build/logs/$t.merge.log" 2>&1
-    echo "fuzz: $t: merged $(( $(ls "$(corpus_of "$t")" | wc -l) - before )) new inputs into $(corpus_of "$t" | sed "s|$root/||")"
-  done
+  for t in "${targets[@]}"; do minimize "$t"; done
 fi
 
 failed=0

@@ -13,8 +13,9 @@
 // - no exception escapes (the request layer reports errors as values);
 // - every error has the contract's code for its input (400 kMalformedRequest or
 //   kInvalidParameter) and renders as the server renders it, api::error_body(e).dump(),
-//   without throwing (nlohmann throws on invalid UTF-8) and in at most 1 KiB: invalid values
-//   are described, never dumped;
+//   without throwing (nlohmann throws on invalid UTF-8) and in at most 2 KiB: invalid values
+//   are described, never dumped (the longest bodies quote a 60-byte key three times, every
+//   byte a 6-byte \u escape);
 // - accepted parameters are in range: mesh and primitive below 2^31, vertex indices below
 //   2^32 - 1, positions and numbers finite, weld_epsilon and min_protrusion >= 0;
 // - a decoded glb_base64 re-encodes and decodes to the same bytes; a decoded mesh.gltf is a
@@ -25,6 +26,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <string>
@@ -60,9 +63,15 @@ std::string rendered_error(const ApiError& error) {
 }
 
 void check_error(const ApiError& error) {
+  static const bool verbose = std::getenv("SEAM_FUZZ_VERBOSE") != nullptr;  // for reading reproducers
+  if (verbose) std::fprintf(stderr, "request_fuzz: %s\n", rendered_error(error).c_str());
   check(error.code == ApiErrorCode::kMalformedRequest || error.code == ApiErrorCode::kInvalidParameter);
   check(!error.message.empty());
-  check(rendered_error(error).size() <= 1024);
+  // Finding F4 (docs/fuzzing.md): a query key given twice is echoed whole in
+  // details.parameter. SEAM_FUZZ_TOLERATE=long-duplicate-key looks past it.
+  const bool f4 = seam::fuzz::tolerated("long-duplicate-key") &&
+                  error.message.find("\" is given twice") != std::string::npos;
+  check(f4 || rendered_error(error).size() <= 2048);
 }
 
 void check_params(const SeamParams& p) {
