@@ -5,6 +5,7 @@
 
 #include "api/gltf_writer.h"
 #include "api/sample_mesh.h"
+#include "draco_payloads.h"
 #include "fixtures.h"
 
 #include <atomic>
@@ -349,5 +350,27 @@ TEST_CASE("hostile: client bytes that are not UTF-8 in an error message still gi
   CHECK(error_code(bad_key) == "invalid_parameter");
   const auto media = exchange(seamd.port(), post_head(4, "model/\xff\xfe") + "abcd");
   CHECK(status_of(media) == 415);
+  check_alive(seamd);
+}
+
+TEST_CASE("hostile: cost caps before any work: Draco claims are checked before decoding") {
+  using namespace seam::test_draco;
+  Seamd seamd(limited_args({"--max-faces", "100000"}));
+  const long rss_before = seamd.rss_kib();
+  // 300 KB claiming 300k points of 255 float components (issue 10: +568 MB, 1.1 s before).
+  const auto wide = sequential_payload(100'000, 300'000, {{draco::GeometryAttribute::GENERIC, draco::DT_FLOAT32, 255}});
+  // 226 bytes claiming 100M faces (2.36 GB, 3.6 s before).
+  const auto many = edgebreaker_header(3, 100'000'000);
+  for (const auto& payload : {wide, many}) {
+    const std::string body(payload.begin(), payload.end());
+    const auto t0 = Clock::now();
+    const auto raw = exchange(seamd.port(), post_head(body.size(), "application/octet-stream") + body, 30s);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    MESSAGE("hostile Draco body of " << body.size() << " bytes: " << status_of(raw) << " " << error_code(raw) << " in "
+                                     << ms << " ms");
+    CHECK((status_of(raw) == 400 || status_of(raw) == 422));
+    CHECK(ms < 2000);
+  }
+  CHECK(seamd.rss_kib() < rss_before + 64 * 1024);
   check_alive(seamd);
 }
