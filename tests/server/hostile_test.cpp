@@ -10,7 +10,6 @@
 
 #include <atomic>
 #include <future>
-#include <regex>
 
 #include "seamd_process.h"
 
@@ -41,12 +40,7 @@ void check_alive(Seamd& seamd) {
   CHECK(status_of(seamd.get("/healthz")) == 200);
 }
 
-std::string error_code(const std::string& raw) {
-  const std::regex code(R"re("code":"([a-z_]+)")re");
-  std::smatch m;
-  const auto body = body_of(raw);
-  return std::regex_search(body, m, code) ? m[1].str() : std::string();
-}
+std::string error_code(const std::string& raw) { return error_code_in(raw); }
 
 std::string nested(std::size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
 
@@ -234,10 +228,7 @@ TEST_CASE("hostile: a client that disconnects cancels its job; a half-closed one
   REQUIRE(big.ok());
   Seamd seamd({"--workers", "1", "--queue", "0", "--max-body-bytes", std::to_string(64u << 20)});
   auto busy = [&] {
-    const auto metrics = body_of(seamd.get("/metrics"));
-    const std::regex gauge(R"(\nseamd_busy_workers (\d+))");
-    std::smatch m;
-    return std::regex_search(metrics, m, gauge) ? std::stoi(m[1].str()) : -1;
+    return metric_value(body_of(seamd.get("/metrics")), "seamd_busy_workers");
   };
   for (const bool half_close : {false, true}) {
     CAPTURE(half_close);

@@ -6,7 +6,6 @@
 #include "api/sample_mesh.h"
 
 #include <filesystem>
-#include <regex>
 
 #include "seamd_process.h"
 
@@ -73,10 +72,7 @@ class NginxFront {
 };
 
 long long in_flight(Seamd& seamd) {
-  const auto metrics = body_of(seamd.get("/metrics"));
-  const std::regex gauge(R"(\nseamd_in_flight_requests (\d+))");
-  std::smatch m;
-  return std::regex_search(metrics, m, gauge) ? std::stoll(m[1].str()) : -1;
+  return metric_value(body_of(seamd.get("/metrics")), "seamd_in_flight_requests");
 }
 
 }  // namespace

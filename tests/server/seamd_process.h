@@ -153,6 +153,26 @@ inline std::string body_of(std::string_view raw) {
   return head_end == std::string_view::npos ? std::string() : std::string(raw.substr(head_end + 4));
 }
 
+/// The error code of the JSON error body in `raw`'s first response ("" when there is none).
+/// (No std::regex in these tests: GCC 12 warns inside <regex> with sanitizers, and warnings
+/// are errors in CI.)
+inline std::string error_code_in(std::string_view raw) {
+  const auto body = body_of(raw);
+  constexpr std::string_view key = "\"code\":\"";
+  const auto at = body.find(key);
+  if (at == std::string::npos) return "";
+  const auto from = at + key.size();
+  return body.substr(from, body.find('"', from) - from);
+}
+
+/// The value of an unlabelled Prometheus sample `name` in `metrics` text (-1 when absent).
+inline long long metric_value(std::string_view metrics, std::string_view name) {
+  const std::string key = "\n" + std::string(name) + " ";
+  const auto at = metrics.find(key);
+  if (at == std::string_view::npos) return -1;
+  return std::atoll(std::string(metrics.substr(at + key.size(), 24)).c_str());
+}
+
 /// One request and its whole answer on a fresh connection (Connection: close is the caller's).
 inline std::string exchange(int port, std::string_view request, std::chrono::milliseconds limit = std::chrono::seconds(30)) {
   RawConnection c(port);
