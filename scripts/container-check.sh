@@ -7,7 +7,7 @@
 #
 # --compose-up also starts docker/compose.yaml (replicas + nginx) through a podman API
 # socket, runs the smoke test through the load balancer, counts which replicas answered
-# (from nginx's access log), and measures req/s through nginx with 1 and with 2 replicas.
+# (from nginx's access log, its stdout), and measures req/s through nginx with 1 and with 2 replicas.
 # --clean removes the state folder (images, containers, ~6 GB) and exits.
 #
 # Prerequisites (installed here when missing, from Debian): podman buildah runc
@@ -177,7 +177,7 @@ if (( compose_up )); then
       SAMPLE="$glb" "$here/scripts/smoke.sh" "http://127.0.0.1:8080" && ok "smoke through nginx" || bad "smoke through nginx"
       for _ in $(seq 1 30); do curl -fsS -o /dev/null -F "mesh=@$glb" 'http://127.0.0.1:8080/seam?method=mst&uv=none'; done
       lb=$(podman ps --format '{{.Names}}' | grep -m1 '_lb_')
-      answered=$(podman exec "$lb" cat /var/log/nginx/access.log 2> /dev/null | grep '"uri":"/seam' |
+      answered=$(podman logs "$lb" 2> /dev/null | grep '"uri":"/seam' |
                  grep -o '"upstream":"[^"]*"' | sort | uniq -c | sed 's/"upstream"://')
       distinct=$(printf '%s\n' "$answered" | grep -c . || true)
       echo "      seam requests per upstream replica (nginx access log):"; printf '%s\n' "$answered" | sed 's/^/      /'
