@@ -246,7 +246,13 @@ TEST_CASE("hostile: a client that disconnects cancels its job; a half-closed one
     const double freed_ms = std::chrono::duration<double, std::milli>(Clock::now() - left).count();
     MESSAGE("worker freed " << freed_ms << " ms after the client " << std::string(half_close ? "half-closed" : "disconnected"));
     CHECK(busy() == 0);
+    // Release: 0.2-0.3 s (the core's next cancellation poll). Under AddressSanitizer the job's
+    // polls are ~10x further apart.
+#if defined(__SANITIZE_ADDRESS__)
+    CHECK(freed_ms < 15000);
+#else
     CHECK(freed_ms < 3000);
+#endif
     if (half_close) CHECK(c->read_all(5s).empty());  // a closed socket, not a late answer
   }
   const auto metrics = body_of(seamd.get("/metrics"));
