@@ -2,9 +2,9 @@
 // reached the way seamd reaches it: our connection front (server/http_head.h) cuts and
 // parses each head, refuses what it refuses, and hands the library the sanitized head plus
 // the rest of the connection's bytes through httplib::Server::process_request, whose
-// POST /seam handler decodes the request as server.cpp's decode() does (has_file("mesh"),
-// get_file_value, parse_params_part, parse_query_params, parse_json_request) and renders
-// errors as its send_error() does. The first input byte picks the framing:
+// POST /seam handler decodes the request as server.cpp's decode() does (the mesh and params
+// parts, query and body handed to server/request.h's decode_seam_request) and renders errors
+// as its send_error() does (api::error_text). The first input byte picks the framing:
 //   'R'  the rest is a connection's raw bytes: one or more (pipelined) requests
 //   'L'  the rest is "target\ncontent-type\nbody": a POST with a Content-Length
 //   'C'  the same, the body sent in chunks (Transfer-Encoding: chunked)
@@ -22,11 +22,10 @@
 //   the library refuses it for a reason of its own that the front leaves to it: a method
 //   outside its list, a request line over CPPHTTPLIB_REQUEST_URI_MAX_LENGTH (414), a target
 //   with more than one '?';
-// - every error our handlers answer renders as server.cpp renders it,
-//   api::error_body(e).dump(), without throwing (nlohmann throws on invalid UTF-8), and has
-//   a 4xx status; accepted parameters are in range.
-// The mirrored server code (admit, decode, the error handler's messages) is server.cpp's of
-// the same commit; keep them in step.
+// - every error our handlers answer renders as server.cpp renders it, api::error_text(e), as
+//   valid JSON, and has a 4xx status; accepted parameters are in range.
+// The mirrored server code (admit, the few lines of decode that gather the parts, the error
+// handler's messages) is server.cpp's of the same commit; keep them in step.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -101,19 +100,13 @@ class MemoryStream final : public httplib::Stream {
   std::size_t rest_pos_ = 0;
 };
 
-// Renders an error as server.cpp's send_error() does.
+// Renders an error as server.cpp's send_error() does; it must be JSON again (valid UTF-8
+// whatever bytes the message quotes: finding F1 was a throw here).
 void send_error(httplib::Response& res, const ApiError& error) {
   res.status = seam::api::http_status(error.code);
   check(res.status >= 400 && res.status < 500);
-  std::string body;
-  try {
-    body = seam::api::error_body(error).dump();
-  } catch (const nlohmann::json::type_error&) {
-    // In seamd: a 500 from a handler, the end of the process from the error handler
-    // (docs/fuzzing.md, finding F1). SEAM_FUZZ_TOLERATE=invalid-utf8 looks past it.
-    if (!seam::fuzz::tolerated("invalid-utf8")) __builtin_trap();
-    body = seam::api::error_body(error).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  }
+  std::string body = seam::api::error_text(error);
+  check(nlohmann::json::accept(body));
   res.set_content(body, "application/json");
 }
 
@@ -123,15 +116,6 @@ void check_params(const seam::api::SeamParams& p) {
   for (const auto& x : p.extrema.positions) check(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]));
 }
 
-// server.cpp's unsupported_media().
-ApiError unsupported_media(const std::string& media) {
-  return make_api_error(ApiErrorCode::kUnsupportedMediaType,
-                        "unsupported Content-Type '" + media.substr(0, 100) +
-                            "': use multipart/form-data, application/json, model/gltf-binary, model/gltf+json or "
-                            "application/octet-stream",
-                        {{"content_type", media.substr(0, 100)}});
-}
-
 // server.cpp's admit(): the front's route-level check before the body is read.
 bool admitted(const RequestHead& head) {
   if (head.method != "POST" || head.path != "/seam") return true;
@@ -139,46 +123,20 @@ bool admitted(const RequestHead& head) {
   return media == "multipart/form-data" || media == "application/json" || seam::server::asset_kind_for_media_type(media);
 }
 
-// server.cpp's decode().
+// server.cpp's decode(): the library's request handed to the shared decode_seam_request.
 seam::api::ApiResult<SeamRequest> decode(const httplib::Request& req) {
   using namespace seam::server;
-  const auto media = media_type(req.get_header_value("Content-Type"));
-  std::vector<std::pair<std::string, std::string>> query(req.params.begin(), req.params.end());
-  if (media == "multipart/form-data") {
-    if (!req.has_file("mesh")) {
-      return make_api_error(ApiErrorCode::kMalformedRequest,
-                            "multipart request without a 'mesh' part: curl -F mesh=@asset.glb ...");
-    }
-    SeamRequest out;
-    const auto mesh = req.get_file_value("mesh");
-    const auto kind = asset_kind_for_media_type(media_type(mesh.content_type));
-    out.kind = kind ? *kind : seam::api::AssetKind::kAuto;
-    out.asset = mesh.content;
-    if (req.has_file("params")) {
-      if (!query.empty()) {
-        return make_api_error(ApiErrorCode::kInvalidParameter,
-                              "parameters given both in the params part and in the query string; use one");
-      }
-      SEAM_TRY(out.params, parse_params_part(req.get_file_value("params").content));
-    } else {
-      SEAM_TRY(out.params, parse_query_params(query));
-    }
-    return out;
+  const std::string content_type = req.get_header_value("Content-Type");
+  SeamRequestParts parts{.content_type = content_type, .query = {req.params.begin(), req.params.end()}, .body = req.body};
+  if (req.has_file("mesh")) {
+    const auto& file = req.files.find("mesh")->second;
+    parts.mesh = FormPart{file.content, file.content_type};
   }
-  if (media == "application/json") {
-    if (!query.empty()) {
-      return make_api_error(ApiErrorCode::kInvalidParameter,
-                            "with a JSON body the parameters go in the body, not the query string");
-    }
-    return parse_json_request(req.body);
+  if (req.has_file("params")) {
+    const auto& file = req.files.find("params")->second;
+    parts.params = FormPart{file.content, file.content_type};
   }
-  const auto kind = asset_kind_for_media_type(media);
-  if (!kind) return unsupported_media(media);
-  SeamRequest out;
-  out.kind = *kind;
-  out.asset = req.body;
-  SEAM_TRY(out.params, parse_query_params(query));
-  return out;
+  return decode_seam_request(parts);
 }
 
 class FuzzServer : public httplib::Server {

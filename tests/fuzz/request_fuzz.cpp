@@ -12,8 +12,8 @@
 // Properties, each a __builtin_trap when violated:
 // - no exception escapes (the request layer reports errors as values);
 // - every error has the contract's code for its input (400 kMalformedRequest or
-//   kInvalidParameter) and renders as the server renders it, api::error_body(e).dump(),
-//   without throwing (nlohmann throws on invalid UTF-8) and in at most 2 KiB: invalid values
+//   kInvalidParameter) and renders as the server renders it, api::error_text(e), as valid
+//   JSON (so valid UTF-8, whatever bytes the message quotes) of at most 2 KiB: invalid values
 //   are described, never dumped (the longest bodies quote a 60-byte key three times, every
 //   byte a 6-byte \u escape);
 // - accepted parameters are in range: mesh and primitive below 2^31, vertex indices below
@@ -49,17 +49,12 @@ void check(bool property) {
   if (!property) __builtin_trap();
 }
 
-// The error body as server.cpp's send_error() renders it: nlohmann's dump() throws on
-// invalid UTF-8. With SEAM_FUZZ_TOLERATE=invalid-utf8 (docs/fuzzing.md, finding F1) such a
-// message is rendered with replacement characters instead, so that a campaign can look past
-// the known finding.
+// The error body as seamd sends it (api::error_text, which replaces bytes that are not
+// UTF-8). It must be JSON again: valid UTF-8 (finding F1 was a throw here).
 std::string rendered_error(const ApiError& error) {
-  try {
-    return seam::api::error_body(error).dump();
-  } catch (const nlohmann::json::type_error&) {
-    if (!seam::fuzz::tolerated("invalid-utf8")) __builtin_trap();
-    return seam::api::error_body(error).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  }
+  std::string text = seam::api::error_text(error);
+  check(nlohmann::json::accept(text));
+  return text;
 }
 
 void check_error(const ApiError& error) {
