@@ -40,6 +40,29 @@ std::string_view trim_ows(std::string_view s) {
   return s;
 }
 
+// The path the library routes on: the target up to '?' or '#', percent-decoded (as
+// cpp-httplib's decode_url does), so that "/se%61m" is checked as the "/seam" it reaches.
+std::string routed_path(std::string_view target) {
+  target = target.substr(0, std::min(target.find('?'), target.find('#')));
+  std::string out;
+  out.reserve(target.size());
+  auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  for (std::size_t i = 0; i < target.size(); ++i) {
+    if (target[i] == '%' && i + 2 < target.size() && hex(target[i + 1]) >= 0 && hex(target[i + 2]) >= 0) {
+      out += static_cast<char>(hex(target[i + 1]) * 16 + hex(target[i + 2]));
+      i += 2;
+    } else {
+      out += target[i];
+    }
+  }
+  return out;
+}
+
 api::ApiError malformed(std::string message) {
   return make_api_error(ApiErrorCode::kMalformedRequest, "malformed HTTP request: " + std::move(message));
 }
@@ -74,7 +97,7 @@ api::ApiResult<core::Ok> parse_request_line(std::string_view line, RequestHead& 
   }
   out.method = method;
   out.target = target;
-  out.path = target.substr(0, target.find('?'));
+  out.path = routed_path(target);
   return core::Ok{};
 }
 

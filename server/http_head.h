@@ -29,7 +29,7 @@ struct HeadLimits {
 struct RequestHead {
   std::string method;  ///< e.g. "POST"
   std::string target;  ///< request-target as sent, e.g. "/seam?method=mst"
-  std::string path;    ///< target without the query, e.g. "/seam"
+  std::string path;    ///< the path the library routes on: target up to '?' or '#', percent-decoded
   int minor_version = 1;  ///< HTTP/1.<minor_version>: 0 or 1
   std::vector<std::pair<std::string, std::string>> fields;
   std::optional<std::uint64_t> content_length;  ///< from Content-Length

@@ -192,8 +192,11 @@ struct Server::Impl {
   // POST /seam takes four media types; anything else is refused before its body is read (a
   // form-urlencoded body would otherwise be parsed by the library).
   std::optional<Refusal> admit(const RequestHead& head) const {
-    if (head.method != "POST" || head.path != "/seam") return std::nullopt;
+    if (head.method != "POST") return std::nullopt;
     const auto media = media_type(head.field("Content-Type").value_or(""));
+    // No route takes a form body; the library would parse one before routing.
+    if (media == "application/x-www-form-urlencoded") return Refusal{unsupported_media_type(media), {}};
+    if (head.path != "/seam") return std::nullopt;
     if (media == "multipart/form-data" || media == "application/json" || asset_kind_for_media_type(media)) return std::nullopt;
     return Refusal{unsupported_media_type(media), {}};
   }

@@ -302,9 +302,15 @@ TEST_CASE("hostile: pipelining, strict header syntax, OPTIONS, TRACE and form bo
     CHECK(status_of(trace) == 405);
     CHECK(!header_of(trace, "Allow").empty());
   }
-  SUBCASE("a form-urlencoded body is a 415") {
+  SUBCASE("a form-urlencoded body is a 415, however the path is spelled") {
     const auto raw = exchange(seamd.port(), post_head(3, "application/x-www-form-urlencoded") + "a=b");
     CHECK(status_of(raw) == 415);
+    const std::string form = "POST /se%61m HTTP/1.1\r\nHost: t\r\nContent-Type: application/x-www-form-urlencoded\r\n"
+                             "Content-Length: 3\r\nConnection: close\r\n\r\na=b";
+    CHECK(status_of(exchange(seamd.port(), form)) == 415);
+    const std::string text = "POST /se%61m HTTP/1.1\r\nHost: t\r\nContent-Type: text/plain\r\n"
+                             "Content-Length: 3\r\nConnection: close\r\n\r\nabc";
+    CHECK(status_of(exchange(seamd.port(), text)) == 415);
   }
   check_alive(seamd);
 }

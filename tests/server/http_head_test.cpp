@@ -111,3 +111,15 @@ TEST_CASE("http_head: the sanitized head drops Range and parses to the same requ
   CHECK(again->target == head->target);
   CHECK(again->fields.size() == 2);
 }
+
+TEST_CASE("http_head: the path is the one the library routes on") {
+  for (const auto& [target, path] : std::vector<std::pair<std::string, std::string>>{
+           {"/seam?x=1", "/seam"}, {"/se%61m", "/seam"}, {"/seam#frag", "/seam"}, {"/a%2fb?c", "/a/b"},
+           {"/bad%zz", "/bad%zz"}, {"/end%4", "/end%4"}}) {
+    CAPTURE(target);
+    auto head = parse_request_head("GET " + target + " HTTP/1.1\r\n\r\n", {});
+    REQUIRE(head.ok());
+    CHECK(head->path == path);
+    CHECK(head->target == target);
+  }
+}
