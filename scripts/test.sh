@@ -3,7 +3,8 @@
 #   1. Release build with warnings as errors: all doctest suites (core, api, end-to-end server),
 #      real CGAL meshes, glTF-Validator checks.
 #   2. The same unit and end-to-end suites under AddressSanitizer + UndefinedBehaviorSanitizer.
-#   3. A short libFuzzer run of the asset loader over its corpus.
+#   3. A short libFuzzer run of every fuzz target (asset loader, request head, request layer,
+#      multipart) over its corpus and regression inputs (scripts/fuzz.sh).
 # Exits non-zero when anything fails.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

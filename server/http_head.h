@@ -2,7 +2,7 @@
 // it. Pure (no sockets): the connection front (server/http_front.h) reads the head bytes with
 // its own deadline and limits, parses them here, refuses what the service must not read
 // further, and hands the library a sanitized copy. Kept apart so that every rule is unit
-// tested and fuzzed (tests/fuzz/request_fuzz.cpp).
+// tested and fuzzed (tests/fuzz/http_head_fuzz.cpp).
 #pragma once
 
 #include <cstddef>
@@ -21,7 +21,7 @@ namespace seam::server {
 struct HeadLimits {
   std::size_t max_head_bytes = 64u << 10;  ///< request line + header fields + CRLFs; then 431
   std::size_t max_fields = 100;            ///< header fields; then 431
-  std::size_t max_field_bytes = 8192;      ///< one field line (cpp-httplib's own line limit); then 431
+  std::size_t max_field_bytes = 8192;      ///< one field line with its CRLF (cpp-httplib's own line limit); then 431
   std::size_t max_body_bytes = 256u << 20; ///< a larger Content-Length is a 413
 };
 

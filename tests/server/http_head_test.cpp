@@ -123,3 +123,14 @@ TEST_CASE("http_head: the path is the one the library routes on") {
     CHECK(head->target == target);
   }
 }
+
+TEST_CASE("http_head: a field line is counted as the library reads it; the target starts with '/'") {
+  // sanitized "X: value\r\n" must fit cpp-httplib's 8192-byte line buffer (http_head_fuzz).
+  CHECK(parse_request_head("GET / HTTP/1.1\r\nX: " + std::string(8187, 'a') + "\r\n\r\n", {}).ok());
+  CHECK(code_of("GET / HTTP/1.1\r\nX: " + std::string(8188, 'a') + "\r\n\r\n") == ApiErrorCode::kHeadersTooLarge);
+  CHECK(code_of("GET / HTTP/1.1\r\nX:" + std::string(8188, 'a') + "\r\n\r\n") == ApiErrorCode::kHeadersTooLarge);
+  CHECK(code_of("GET ?/seam HTTP/1.1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(code_of("POST http://x/seam HTTP/1.1\r\nContent-Length: 1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(code_of("GET * HTTP/1.1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(parse_request_head("OPTIONS * HTTP/1.1\r\n\r\n", {}).ok());
+}
