@@ -144,14 +144,12 @@ class FuzzServer : public httplib::Server {
   FuzzServer() {
     set_payload_max_length(seam::server::HeadLimits{}.max_body_bytes);
     Post("/seam", [this](const httplib::Request& req, httplib::Response& res) {
-      // The front admitted what the library routes here: a media type POST /seam takes.
-      // Finding F5 (docs/fuzzing.md): the front compares the path as sent, the library
-      // routes it percent-decoded and without its fragment, so "/se%61m" or "/seam#x" skip
-      // admit(). SEAM_FUZZ_TOLERATE=percent-encoded-path looks past it.
+      // The front admitted what the library routes here: a media type POST /seam takes
+      // (finding F5, docs/fuzzing.md: fixed, the front checks the routed path).
       const auto media = seam::server::media_type(req.get_header_value("Content-Type"));
       const bool takes = media == "multipart/form-data" || media == "application/json" ||
                          seam::server::asset_kind_for_media_type(media).has_value();
-      check(takes || (seam::fuzz::tolerated("percent-encoded-path") && front_path_ != "/seam"));
+      check(takes);
       try {
         auto decoded = decode(req);
         if (!decoded.ok()) return send_error(res, decoded.error());
@@ -221,24 +219,12 @@ bool verbose() {
   return on;
 }
 
-// Finding F3 (docs/fuzzing.md): the front takes field lines up to max_field_bytes = 8192
-// bytes, the library up to CPPHTTPLIB_HEADER_MAX_LENGTH = 8192 bytes with the CRLF, after
-// the front has re-spelt `name:value` as `name: value`: such a head is a 400 from the library
-// instead of a 431 from the front. SEAM_FUZZ_TOLERATE=long-field-line looks past it.
-bool long_field_line(const RequestHead& head) {
-  for (const auto& [name, value] : head.fields) {
-    if (name.size() + 2 + value.size() + 2 > CPPHTTPLIB_HEADER_MAX_LENGTH) return true;
-  }
-  return false;
-}
-
 // Heads the front passes that the library may still refuse by its own rules.
 bool library_may_refuse(const RequestHead& head) {
   static const std::set<std::string> kMethods{"GET", "HEAD", "POST", "PUT", "DELETE", "CONNECT", "OPTIONS", "TRACE", "PATCH", "PRI"};
   const std::size_t request_line = head.method.size() + 1 + head.target.size() + 1 + 8 + 2;
   return kMethods.count(head.method) == 0 || request_line > CPPHTTPLIB_REQUEST_URI_MAX_LENGTH ||
-         std::count(head.target.begin(), head.target.end(), '?') > 1 ||
-         (seam::fuzz::tolerated("long-field-line") && long_field_line(head));
+         std::count(head.target.begin(), head.target.end(), '?') > 1;
 }
 
 // The front's loop over one connection (server/http_front.cpp serve_connection), at most 4

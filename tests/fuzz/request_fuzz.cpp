@@ -62,11 +62,7 @@ void check_error(const ApiError& error) {
   if (verbose) std::fprintf(stderr, "request_fuzz: %s\n", rendered_error(error).c_str());
   check(error.code == ApiErrorCode::kMalformedRequest || error.code == ApiErrorCode::kInvalidParameter);
   check(!error.message.empty());
-  // Finding F4 (docs/fuzzing.md): a query key given twice is echoed whole in
-  // details.parameter. SEAM_FUZZ_TOLERATE=long-duplicate-key looks past it.
-  const bool f4 = seam::fuzz::tolerated("long-duplicate-key") &&
-                  error.message.find("\" is given twice") != std::string::npos;
-  check(f4 || rendered_error(error).size() <= 2048);
+  check(rendered_error(error).size() <= 2048);  // finding F4 (docs/fuzzing.md), fixed
 }
 
 void check_params(const SeamParams& p) {
