@@ -16,6 +16,7 @@
 #include "server/worker_pool.h"
 
 #include "server/http_front.h"
+#include "server/http_request.h"
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -228,22 +229,6 @@ struct Server::Impl {
 
   // ---- POST /seam ----------------------------------------------------------------------
 
-  static api::ApiResult<SeamRequest> decode(const httplib::Request& req) {
-    const std::string content_type = req.get_header_value("Content-Type");  // parts views it
-    SeamRequestParts parts{.content_type = content_type,
-                           .query = {req.params.begin(), req.params.end()},
-                           .body = req.body};
-    if (req.has_file("mesh")) {
-      const auto& file = req.files.find("mesh")->second;
-      parts.mesh = FormPart{file.content, file.content_type};
-    }
-    if (req.has_file("params")) {
-      const auto& file = req.files.find("params")->second;
-      parts.params = FormPart{file.content, file.content_type};
-    }
-    return decode_seam_request(parts);
-  }
-
   void handle_seam(const httplib::Request& req, httplib::Response& res) {
     ++in_flight;
     struct Leave {
@@ -252,7 +237,7 @@ struct Server::Impl {
     } leave{in_flight};
 
     const auto deadline = Clock::now() + config.time_budget;
-    auto decoded = decode(req);
+    auto decoded = decode_seam_request(req);
     if (!decoded.ok()) return send_error(req, res, decoded.error());
     SeamRequest& request = decoded.value();
     if (request.asset.empty()) {
@@ -473,32 +458,7 @@ struct Server::Impl {
         send_error(req, res, failure->error);
         return httplib::Server::HandlerResponse::Handled;
       }
-      ApiError error;
-      switch (res.status) {
-        case 404:
-          error = make_api_error(ApiErrorCode::kNotFound,
-                                 "no route " + req.path + "; routes: POST /seam, GET /healthz, /readyz, /metrics, /version");
-          break;
-        case 413:
-          error = make_api_error(ApiErrorCode::kPayloadTooLarge,
-                                 "the request body is larger than the limit of " + std::to_string(config.max_body_bytes) +
-                                     " bytes (--max-body-bytes)",
-                                 {{"limit_bytes", config.max_body_bytes}});
-          break;
-        case 415:
-          error = make_api_error(ApiErrorCode::kUnsupportedMediaType, "unsupported media type");
-          break;
-        case 400:
-          error = make_api_error(ApiErrorCode::kMalformedRequest,
-                                 "malformed HTTP request (bad request line, headers, chunking or multipart body)");
-          break;
-        default:
-          if (res.status >= 500) {
-            error = make_api_error(ApiErrorCode::kInternal, "internal error");
-          } else {
-            error = make_api_error(ApiErrorCode::kMalformedRequest, "request failed with HTTP status " + std::to_string(res.status));
-          }
-      }
+      const ApiError error = library_status_error(res.status, req.path, config.max_body_bytes);
       const int status = res.status;
       send_error(req, res, error);
       if (status != api::http_status(error.code)) res.status = status;  // keep e.g. 414, 416

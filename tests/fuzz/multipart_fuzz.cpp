@@ -2,9 +2,9 @@
 // reached the way seamd reaches it: our connection front (server/http_head.h) cuts and
 // parses each head, refuses what it refuses, and hands the library the sanitized head plus
 // the rest of the connection's bytes through httplib::Server::process_request, whose
-// POST /seam handler decodes the request as server.cpp's decode() does (the mesh and params
-// parts, query and body handed to server/request.h's decode_seam_request) and renders errors
-// as its send_error() does (api::error_text). The first input byte picks the framing:
+// POST /seam handler decodes the request with the server's own decode_seam_request
+// (server/http_request.h) and renders errors as its send_error() does (api::error_text),
+// library-set statuses through the server's library_status_error. The first input byte picks the framing:
 //   'R'  the rest is a connection's raw bytes: one or more (pipelined) requests
 //   'L'  the rest is "target\ncontent-type\nbody": a POST with a Content-Length
 //   'C'  the same, the body sent in chunks (Transfer-Encoding: chunked)
@@ -43,6 +43,7 @@
 #include "api/error.h"
 #include "server/http_head.h"
 #include "server/request.h"
+#include "server/http_request.h"
 #include "tests/fuzz/tolerate.h"
 
 #include <httplib.h>  // after Eigen (pulled in by server/request.h)
@@ -123,22 +124,6 @@ bool admitted(const RequestHead& head) {
   return media == "multipart/form-data" || media == "application/json" || seam::server::asset_kind_for_media_type(media);
 }
 
-// server.cpp's decode(): the library's request handed to the shared decode_seam_request.
-seam::api::ApiResult<SeamRequest> decode(const httplib::Request& req) {
-  using namespace seam::server;
-  const std::string content_type = req.get_header_value("Content-Type");
-  SeamRequestParts parts{.content_type = content_type, .query = {req.params.begin(), req.params.end()}, .body = req.body};
-  if (req.has_file("mesh")) {
-    const auto& file = req.files.find("mesh")->second;
-    parts.mesh = FormPart{file.content, file.content_type};
-  }
-  if (req.has_file("params")) {
-    const auto& file = req.files.find("params")->second;
-    parts.params = FormPart{file.content, file.content_type};
-  }
-  return decode_seam_request(parts);
-}
-
 class FuzzServer : public httplib::Server {
  public:
   FuzzServer() {
@@ -151,7 +136,7 @@ class FuzzServer : public httplib::Server {
                          seam::server::asset_kind_for_media_type(media).has_value();
       check(takes);
       try {
-        auto decoded = decode(req);
+        auto decoded = seam::server::decode_seam_request(req);
         if (!decoded.ok()) return send_error(res, decoded.error());
         if (decoded->asset.empty()) {
           return send_error(res, make_api_error(ApiErrorCode::kMalformedRequest, "the request carries no asset bytes"));
@@ -170,18 +155,7 @@ class FuzzServer : public httplib::Server {
         std::fprintf(stderr, "multipart_fuzz: 500, exception: %s\n", res.get_header_value("EXCEPTION_WHAT").c_str());
         __builtin_trap();
       }
-      ApiError error;
-      switch (res.status) {
-        case 404:
-          error = make_api_error(ApiErrorCode::kNotFound,
-                                 "no route " + req.path + "; routes: POST /seam, GET /healthz, /readyz, /metrics, /version");
-          break;
-        case 413: error = make_api_error(ApiErrorCode::kPayloadTooLarge, "the request body is larger than the limit"); break;
-        case 415: error = make_api_error(ApiErrorCode::kUnsupportedMediaType, "unsupported media type"); break;
-        default:
-          error = make_api_error(ApiErrorCode::kMalformedRequest,
-                                 "request failed with HTTP status " + std::to_string(res.status));
-      }
+      const ApiError error = seam::server::library_status_error(res.status, req.path, seam::server::HeadLimits{}.max_body_bytes);
       const int status = res.status;
       send_error(res, error);
       res.status = status;
