@@ -17,6 +17,17 @@ api::ApiResult<SeamRequest> decode_seam_request(const httplib::Request& req) {
   return decode_seam_request(parts);
 }
 
+std::optional<api::ApiError> refuse_before_body(const RequestHead& head) {
+  if (head.method != "POST") return std::nullopt;
+  const auto media = media_type(head.field("Content-Type").value_or(""));
+  if (media == "application/x-www-form-urlencoded") return unsupported_media_type(media);
+  if (head.path != "/seam") return std::nullopt;
+  if (media == "multipart/form-data" || media == "application/json" || asset_kind_for_media_type(media)) {
+    return std::nullopt;
+  }
+  return unsupported_media_type(media);
+}
+
 api::ApiError library_status_error(int status, const std::string& path, std::size_t max_body_bytes) {
   switch (status) {
     case 404:

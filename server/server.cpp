@@ -193,13 +193,8 @@ struct Server::Impl {
   // POST /seam takes four media types; anything else is refused before its body is read (a
   // form-urlencoded body would otherwise be parsed by the library).
   std::optional<Refusal> admit(const RequestHead& head) const {
-    if (head.method != "POST") return std::nullopt;
-    const auto media = media_type(head.field("Content-Type").value_or(""));
-    // No route takes a form body; the library would parse one before routing.
-    if (media == "application/x-www-form-urlencoded") return Refusal{unsupported_media_type(media), {}};
-    if (head.path != "/seam") return std::nullopt;
-    if (media == "multipart/form-data" || media == "application/json" || asset_kind_for_media_type(media)) return std::nullopt;
-    return Refusal{unsupported_media_type(media), {}};
+    if (auto error = refuse_before_body(head)) return Refusal{std::move(*error), {}};
+    return std::nullopt;
   }
 
   // A request the front answered itself: the same request id, access log line and metrics as

@@ -24,8 +24,8 @@
 //   with more than one '?';
 // - every error our handlers answer renders as server.cpp renders it, api::error_text(e), as
 //   valid JSON, and has a 4xx status; accepted parameters are in range.
-// The mirrored server code (admit, the few lines of decode that gather the parts, the error
-// handler's messages) is server.cpp's of the same commit; keep them in step.
+// The server code it runs (admission, decoding, library-set statuses) is the server's own,
+// from server/http_request.h.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -117,12 +117,8 @@ void check_params(const seam::api::SeamParams& p) {
   for (const auto& x : p.extrema.positions) check(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]));
 }
 
-// server.cpp's admit(): the front's route-level check before the body is read.
-bool admitted(const RequestHead& head) {
-  if (head.method != "POST" || head.path != "/seam") return true;
-  const auto media = seam::server::media_type(head.field("Content-Type").value_or(""));
-  return media == "multipart/form-data" || media == "application/json" || seam::server::asset_kind_for_media_type(media);
-}
+// The server's admit(): the front's route-level check before the body is read.
+bool admitted(const RequestHead& head) { return !seam::server::refuse_before_body(head).has_value(); }
 
 class FuzzServer : public httplib::Server {
  public:
