@@ -56,9 +56,11 @@ class PathSearch {
     max_settled_ = SIZE_MAX;
     return st;
   }
-  /// Runs until the first of `targets` is settled (the nearest one). Errors: kCancelled.
-  Status run_to_nearest(std::span<const VertexId> targets, const CancelToken& cancel = CancelToken::none()) {
-    return run_impl(targets, kUnreached, true, cancel);
+  /// Runs until the first of `targets` is settled (the nearest one), or the next vertex is
+  /// farther than max_distance (then no target is reached). Errors: kCancelled.
+  Status run_to_nearest(std::span<const VertexId> targets, const CancelToken& cancel = CancelToken::none(),
+                        double max_distance = kUnreached) {
+    return run_impl(targets, max_distance, true, cancel);
   }
 
   /// Settled distance of v from the sources, kUnreached if not settled by the last run.

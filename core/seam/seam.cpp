@@ -67,6 +67,7 @@ double ms_since(Clock::time_point start) {
 }
 
 struct ComponentSeam {
+  bool exact = true;                    // the tree is a minimum one for its terminals
   std::vector<EdgeId> seam_edges;       // in the input mesh
   std::vector<EdgeId> cut_graph_edges;  // in the input mesh
   std::vector<VertexId> extra_terminals;  // boundary touch points and added far ends
@@ -101,8 +102,22 @@ Result<std::vector<EdgeId>> shortest_path_edges(const HalfedgeMesh& mesh, const 
   return edges;
 }
 
+struct MethodTree {
+  std::vector<EdgeId> edges;
+  bool exact = false;
+};
+
+// Whether the skeleton method should return the exact optimum (SeamOptions::exact_budget).
+bool exact_is_cheap(const SeamOptions& options, std::size_t terminals, std::size_t vertices) {
+  if (options.method != SeamMethod::kSkeleton || terminals > options.optimal_max_terminals || terminals > 30) {
+    return false;
+  }
+  const double rows = static_cast<double>(std::size_t{1} << (terminals - 1));
+  return rows * static_cast<double>(vertices) <= options.exact_budget;
+}
+
 // The tree on `work` (a closed genus-0 surface) for `terminals` by the chosen method.
-Result<std::vector<EdgeId>> run_method(const HalfedgeMesh& work, std::span<const double> weights,
+Result<MethodTree> run_method(const HalfedgeMesh& work, std::span<const double> weights,
                                        std::span<const VertexId> terminals, const SeamOptions& options,
                                        SeamStats& stats, const CancelToken& cancel) {
   const EdgeGraph graph = build_edge_graph(work, weights);
@@ -115,11 +130,22 @@ Result<std::vector<EdgeId>> run_method(const HalfedgeMesh& work, std::span<const
   if (terminals.size() == 2) {
     // §4.1: two terminals, the seam is their shortest path (the same for every method).
     auto start = Clock::now();
-    auto edges = shortest_path_edges(work, graph, terminals[0], terminals[1], cancel);
+    SEAM_TRY(auto edges, shortest_path_edges(work, graph, terminals[0], terminals[1], cancel));
     stats.paths_ms += ms_since(start);
-    return edges;
+    return MethodTree{std::move(edges), true};
   }
   SteinerTree tree;
+  if (exact_is_cheap(options, terminals.size(), work.num_vertices())) {
+    auto start = Clock::now();
+    auto exact = optimal_seam(work, graph, weights, terminals, options.optimal_max_terminals, cancel);
+    stats.method_ms += ms_since(start);
+    if (exact.ok()) {
+      ++stats.exact_components;
+      return MethodTree{std::move(exact->edges), true};
+    }
+    // Too large a table or unreachable terminals: the skeleton below decides.
+    if (exact.error().code == ErrorCode::kCancelled) return exact.take_error();
+  }
   if (options.method == SeamMethod::kSkeleton || options.method == SeamMethod::kMst) {
     auto start = Clock::now();
     SEAM_TRY(TerminalPaths paths, compute_terminal_paths(work, graph, terminals, options.threads, cancel));
@@ -127,7 +153,8 @@ Result<std::vector<EdgeId>> run_method(const HalfedgeMesh& work, std::span<const
     start = Clock::now();
     if (options.method == SeamMethod::kSkeleton) {
       SEAM_TRY(SkeletonResult skeleton,
-               skeleton_seam(work, graph, weights, paths, SkeletonOptions{.refine = options.refine}, cancel));
+               skeleton_seam(work, graph, weights, paths,
+                             SkeletonOptions{.refine = options.refine, .improve = options.improve}, cancel));
       tree = std::move(skeleton.tree);
     } else {
       SEAM_TRY(tree, mst_seam(work, graph, weights, paths, cancel));
@@ -142,7 +169,7 @@ Result<std::vector<EdgeId>> run_method(const HalfedgeMesh& work, std::span<const
     }
     stats.method_ms += ms_since(start);
   }
-  return std::move(tree.edges);
+  return MethodTree{std::move(tree.edges), options.method == SeamMethod::kOptimal};
 }
 
 // The cheapest two-edge path a-w-b replacing the single edge e on a closed surface.
@@ -255,7 +282,9 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
   stats.terminals += terminals.size();
   if (terminals.size() < 2) return out;  // an open disc with no extrema inside: no seam
 
-  SEAM_TRY(std::vector<EdgeId> work_edges, run_method(work, weights, terminals, options, stats, cancel));
+  SEAM_TRY(MethodTree method_tree, run_method(work, weights, terminals, options, stats, cancel));
+  out.exact = method_tree.exact;
+  std::vector<EdgeId> work_edges = std::move(method_tree.edges);
 
   // Back to the disc: drop virtual edges, keep a forest touching the boundary once per tree.
   std::vector<EdgeId> disc_edges;
@@ -280,7 +309,10 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
     }
   }
   disc_edges = pruned_spanning_forest(disc, disc_edges, keep, {}, boundary);
-  if (!has_boundary && disc_edges.size() == 1) disc_edges = widen_single_edge(disc, disc_edges[0]);
+  if (!has_boundary && disc_edges.size() == 1) {
+    disc_edges = widen_single_edge(disc, disc_edges[0]);
+    out.exact = false;  // the minimum (one edge) cannot be cut; its widening is not minimal
+  }
 
   // Where the seam reaches the boundary: that point stands for the boundary terminal.
   if (has_boundary) {
@@ -356,6 +388,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
   }
 
   std::vector<VertexId> extra_terminals;
+  result.optimal = true;
   for (std::uint32_t c = 0; c < topo.components.size(); ++c) {
     if (cancel.is_cancelled()) return cancelled_error("seam");
     SEAM_TRY(ComponentSeam part,
@@ -363,6 +396,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
                                topo.components.size() > 1 ? std::span<const FaceId>(component_faces[c])
                                                           : std::span<const FaceId>(),
                                per_component[c], options, result.stats, cancel));
+    result.optimal = result.optimal && part.exact;
     result.seam_edges.insert(result.seam_edges.end(), part.seam_edges.begin(), part.seam_edges.end());
     result.cut_graph_edges.insert(result.cut_graph_edges.end(), part.cut_graph_edges.begin(),
                                   part.cut_graph_edges.end());

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <string>
 
+#include "core/seam/improve.h"
 #include "core/seam/refine.h"
 #include "core/seam/skeleton_trace.h"
 #include "core/seam/straighten.h"
@@ -111,11 +112,25 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
   result.stats.length_before_refine = tr.straightened_length;
 
   std::vector<EdgeId> final_edges = topology_edges(*straight);
+  auto improve = [&]() -> Status {
+    const auto start = std::chrono::steady_clock::now();
+    SEAM_TRY(ImproveResult improved, improve_tree(mesh, graph, edge_weights, terminals, final_edges, {}, cancel));
+    final_edges = std::move(improved.edges);
+    result.stats.improve_ms += ms_since(start);
+    return Ok{};
+  };
+  if (options.improve) {
+    if (auto st = improve(); !st.ok()) return st.take_error();
+  }
   if (options.refine) {
     const auto start = std::chrono::steady_clock::now();
     SEAM_TRY(final_edges, refine_tree(mesh, graph, edge_weights, terminals, final_edges, {}, &tr.refine_stats, cancel));
     result.stats.refine_ms = ms_since(start);
     tr.refined_length = tr.refine_stats.length_after;
+    // The refinement changed the local topology: whole branches may now move again.
+    if (options.improve && tr.refine_stats.improvements > 0) {
+      if (auto st = improve(); !st.ok()) return st.take_error();
+    }
   }
   result.tree = make_steiner_tree(mesh, final_edges, terminals, edge_weights);
   return result;

@@ -16,6 +16,9 @@ struct SkeletonOptions {
   /// After §4.4, shorten the tree while every terminal stays a leaf (relocate Steiner
   /// points, re-straighten). On by default only where measured to help.
   bool refine = true;
+  /// After §4.4 (before and after the refinement), move whole branches by key-path exchange
+  /// and key-vertex elimination (core/seam/improve.h) while every terminal stays a leaf.
+  bool improve = true;
 };
 
 struct SkeletonStats {
@@ -23,6 +26,7 @@ struct SkeletonStats {
   double shrink_ms = 0;
   double straighten_ms = 0;
   double refine_ms = 0;
+  double improve_ms = 0;
   double length_before_refine = 0;
   std::size_t removals = 0;           ///< repeated visits removed by Algorithm 2
   std::size_t rejected_removals = 0;  ///< removals refused because the tour would self-intersect

@@ -1,0 +1,317 @@
+#include "core/seam/improve.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+
+#include "core/paths/path_search.h"
+#include "core/seam/straighten.h"
+
+namespace seam::core {
+
+namespace {
+
+double weight_of(const HalfedgeMesh& mesh, std::span<const double> edge_weights, EdgeId e) {
+  return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
+}
+
+double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights, std::span<const EdgeId> edges) {
+  double length = 0.0;
+  for (EdgeId e : edges) length += weight_of(mesh, edge_weights, e);
+  return length;
+}
+
+// A branch between two nodes (terminals or vertices of degree >= 3), from a to b.
+struct KeyPath {
+  std::vector<HalfedgeId> course;
+  double length = 0.0;
+  VertexId a, b;
+};
+
+// The current tree, its adjacency and key paths, and the moves tried on it. One per call.
+class Improver {
+ public:
+  Improver(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> weights,
+           std::span<const VertexId> terminals)
+      : mesh_(mesh), weights_(weights), terminals_(terminals), search_(graph),
+        is_terminal_(mesh.num_vertices(), 0), local_(mesh.num_vertices(), -1),
+        removed_edge_(mesh.num_edges(), 0) {
+    for (VertexId t : terminals) is_terminal_[t.index()] = 1;
+  }
+
+  // Adopts `edges` as the current tree: adjacency, key paths (longest first), Steiner points.
+  void index(std::vector<EdgeId> edges);
+  // Removes the key paths `removed` (and the Steiner point `eliminated`, if valid) and rejoins
+  // the parts; true (and the tree re-indexed) when that made the tree shorter.
+  Result<bool> try_move(std::span<const std::size_t> removed, const CancelToken& cancel);
+
+  const std::vector<EdgeId>& edges() const { return edges_; }
+  double length() const { return length_; }
+  const std::vector<KeyPath>& key_paths() const { return key_paths_; }
+  const std::vector<VertexId>& steiner_points() const { return steiner_; }
+  std::vector<std::size_t> paths_at(VertexId s) const {
+    std::vector<std::size_t> at;
+    for (std::size_t i = 0; i < key_paths_.size(); ++i) {
+      if (key_paths_[i].a == s || key_paths_[i].b == s) at.push_back(i);
+    }
+    return at;
+  }
+
+ private:
+  bool is_node(std::int32_t i) const {
+    return is_terminal_[vertices_[static_cast<std::size_t>(i)].index()] || out_[static_cast<std::size_t>(i)].size() != 2;
+  }
+  KeyPath walk(HalfedgeId first) const;
+  // Labels the tree vertices left after removing the marked edges by part; returns the count.
+  std::size_t label_parts(std::vector<std::int32_t>& part, std::vector<std::uint8_t>& alive) const;
+  Result<double> rejoin(std::size_t parts, const std::vector<std::int32_t>& part,
+                        const std::vector<std::uint8_t>& alive, std::vector<std::uint8_t>& attachable,
+                        double budget, std::vector<EdgeId>& added, const CancelToken& cancel);
+
+  const HalfedgeMesh& mesh_;
+  std::span<const double> weights_;
+  std::span<const VertexId> terminals_;
+  PathSearch search_;
+  std::vector<std::uint8_t> is_terminal_;
+  std::vector<std::int32_t> local_;  // tree vertex -> index in vertices_, -1 off the tree
+  std::vector<std::uint8_t> removed_edge_;
+  std::vector<EdgeId> edges_;
+  double length_ = 0.0;
+  std::vector<VertexId> vertices_;
+  std::vector<std::vector<HalfedgeId>> out_;
+  std::vector<KeyPath> key_paths_;
+  std::vector<VertexId> steiner_;
+};
+
+void Improver::index(std::vector<EdgeId> edges) {
+  for (VertexId v : vertices_) local_[v.index()] = -1;
+  edges_ = std::move(edges);
+  std::sort(edges_.begin(), edges_.end());
+  length_ = tree_length(mesh_, weights_, edges_);
+  vertices_.clear();
+  for (EdgeId e : edges_) {
+    vertices_.push_back(mesh_.tail(HalfedgeMesh::halfedge(e)));
+    vertices_.push_back(mesh_.head(HalfedgeMesh::halfedge(e)));
+  }
+  std::sort(vertices_.begin(), vertices_.end());
+  vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
+  out_.assign(vertices_.size(), {});
+  for (std::size_t i = 0; i < vertices_.size(); ++i) local_[vertices_[i].index()] = static_cast<std::int32_t>(i);
+  for (EdgeId e : edges_) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(e);
+    out_[static_cast<std::size_t>(local_[mesh_.tail(h).index()])].push_back(h);
+    out_[static_cast<std::size_t>(local_[mesh_.head(h).index()])].push_back(HalfedgeMesh::twin(h));
+  }
+  key_paths_.clear();
+  steiner_.clear();
+  for (std::size_t i = 0; i < vertices_.size(); ++i) {
+    if (!is_node(static_cast<std::int32_t>(i))) continue;
+    if (!is_terminal_[vertices_[i].index()]) steiner_.push_back(vertices_[i]);
+    for (HalfedgeId h : out_[i]) {
+      KeyPath path = walk(h);
+      if (path.a.value() < path.b.value()) key_paths_.push_back(std::move(path));
+    }
+  }
+  // Longest first: the longest branches have the most to gain; ties by their ends' ids.
+  std::sort(key_paths_.begin(), key_paths_.end(), [](const KeyPath& x, const KeyPath& y) {
+    if (x.length != y.length) return x.length > y.length;
+    return std::pair(x.a, x.b) < std::pair(y.a, y.b);
+  });
+}
+
+KeyPath Improver::walk(HalfedgeId first) const {
+  KeyPath path;
+  path.a = mesh_.tail(first);
+  HalfedgeId h = first;
+  for (;;) {
+    path.course.push_back(h);
+    path.length += weight_of(mesh_, weights_, HalfedgeMesh::edge(h));
+    const std::int32_t x = local_[mesh_.head(h).index()];
+    if (is_node(x)) break;
+    const auto& out = out_[static_cast<std::size_t>(x)];
+    h = out[0] == HalfedgeMesh::twin(h) ? out[1] : out[0];
+  }
+  path.b = mesh_.head(h);
+  return path;
+}
+
+std::size_t Improver::label_parts(std::vector<std::int32_t>& part, std::vector<std::uint8_t>& alive) const {
+  std::size_t parts = 0;
+  std::vector<std::size_t> stack;
+  for (std::size_t i = 0; i < vertices_.size(); ++i) {
+    if (!alive[i] || part[i] >= 0) continue;
+    part[i] = static_cast<std::int32_t>(parts);
+    stack.push_back(i);
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      for (HalfedgeId h : out_[v]) {
+        if (removed_edge_[HalfedgeMesh::edge(h).index()]) continue;
+        const auto w = static_cast<std::size_t>(local_[mesh_.head(h).index()]);
+        if (alive[w] && part[w] < 0) {
+          part[w] = static_cast<std::int32_t>(parts);
+          stack.push_back(w);
+        }
+      }
+    }
+    ++parts;
+  }
+  return parts;
+}
+
+// Prim over the parts: starting from the smallest, repeatedly joins the nearest other part by
+// a shortest path from any attachable vertex of the joined parts (or of the paths added so
+// far) to an attachable vertex of another part, through no tree vertex. Returns the added
+// length, or infinity when the parts cannot be joined within `budget`.
+Result<double> Improver::rejoin(std::size_t parts, const std::vector<std::int32_t>& part,
+                                const std::vector<std::uint8_t>& alive, std::vector<std::uint8_t>& attachable,
+                                double budget, std::vector<EdgeId>& added, const CancelToken& cancel) {
+  std::vector<std::size_t> size(parts, 0);
+  for (std::size_t i = 0; i < vertices_.size(); ++i) {
+    if (alive[i]) ++size[static_cast<std::size_t>(part[i])];
+  }
+  std::vector<std::uint8_t> joined(parts, 0);
+  joined[static_cast<std::size_t>(std::min_element(size.begin(), size.end()) - size.begin())] = 1;
+  std::vector<VertexId> new_vertices, targets;
+  double used = 0.0;
+  for (std::size_t step = 1; step < parts; ++step) {
+    search_.reset();
+    search_.clear_marks();
+    targets.clear();
+    for (std::size_t i = 0; i < vertices_.size(); ++i) {
+      if (!alive[i]) continue;  // removed vertices are free for the new paths
+      const VertexId v = vertices_[i];
+      const bool in_joined = joined[static_cast<std::size_t>(part[i])] != 0;
+      if (!attachable[i]) {
+        search_.forbid(v);
+      } else if (in_joined) {
+        search_.add_source(v);
+      } else {
+        search_.block(v);
+        targets.push_back(v);
+      }
+    }
+    for (VertexId v : new_vertices) search_.add_source(v);
+    const double left = budget - used;
+    if (auto st = search_.run_to_nearest(targets, cancel, left); !st.ok()) return st.take_error();
+    const auto settled = search_.settled();
+    if (settled.empty()) return std::numeric_limits<double>::infinity();
+    const VertexId reached = settled.back();
+    const std::int32_t at = local_[reached.index()];
+    if (at < 0 || !alive[static_cast<std::size_t>(at)] || joined[static_cast<std::size_t>(part[static_cast<std::size_t>(at)])] ||
+        !attachable[static_cast<std::size_t>(at)]) {
+      return std::numeric_limits<double>::infinity();  // the search ran out of budget first
+    }
+    used += search_.distance(reached);
+    for (HalfedgeId h : search_.path_to(mesh_, reached)) {
+      added.push_back(HalfedgeMesh::edge(h));
+      const std::int32_t w = local_[mesh_.head(h).index()];
+      if (w < 0 || !alive[static_cast<std::size_t>(w)]) new_vertices.push_back(mesh_.head(h));
+    }
+    joined[static_cast<std::size_t>(part[static_cast<std::size_t>(at)])] = 1;
+    // A lone terminal that is now joined is a leaf: nothing more may attach to it.
+    if (is_terminal_[reached.index()]) attachable[static_cast<std::size_t>(at)] = 0;
+  }
+  return used;
+}
+
+Result<bool> Improver::try_move(std::span<const std::size_t> removed, const CancelToken& cancel) {
+  std::vector<std::uint8_t> alive(vertices_.size(), 1);
+  double removed_length = 0.0;
+  for (std::size_t p : removed) {
+    const KeyPath& path = key_paths_[p];
+    removed_length += path.length;
+    for (std::size_t i = 0; i < path.course.size(); ++i) {
+      removed_edge_[HalfedgeMesh::edge(path.course[i]).index()] = 1;
+      if (i > 0) alive[static_cast<std::size_t>(local_[mesh_.tail(path.course[i]).index()])] = 0;
+    }
+  }
+  // A vertex all of whose tree edges were removed and that is no terminal goes too (the
+  // eliminated Steiner point).
+  std::vector<std::uint8_t> attachable(vertices_.size(), 0);
+  for (std::size_t i = 0; i < vertices_.size(); ++i) {
+    if (!alive[i]) continue;
+    std::size_t left = 0;
+    for (HalfedgeId h : out_[i]) left += removed_edge_[HalfedgeMesh::edge(h).index()] ? 0 : 1;
+    const bool terminal = is_terminal_[vertices_[i].index()] != 0;
+    if (left == 0 && !terminal) alive[i] = 0;
+    attachable[i] = terminal ? left == 0 : 1;
+  }
+  std::vector<std::int32_t> part(vertices_.size(), -1);
+  const std::size_t parts = label_parts(part, alive);
+  std::vector<EdgeId> added;
+  const double slack = 1e-9 * (1.0 + removed_length);
+  auto joined = rejoin(parts, part, alive, attachable, removed_length - slack, added, cancel);
+  for (std::size_t p : removed) {
+    for (HalfedgeId h : key_paths_[p].course) removed_edge_[HalfedgeMesh::edge(h).index()] = 0;
+  }
+  if (!joined.ok()) return joined.take_error();
+  if (!(*joined < removed_length - slack)) return false;
+  std::vector<EdgeId> gone;
+  for (std::size_t p : removed) {
+    for (HalfedgeId h : key_paths_[p].course) gone.push_back(HalfedgeMesh::edge(h));
+  }
+  std::sort(gone.begin(), gone.end());
+  std::vector<EdgeId> candidate;
+  for (EdgeId e : edges_) {
+    if (!std::binary_search(gone.begin(), gone.end(), e)) candidate.push_back(e);
+  }
+  candidate.insert(candidate.end(), added.begin(), added.end());
+  std::sort(candidate.begin(), candidate.end());
+  candidate.erase(std::unique(candidate.begin(), candidate.end()), candidate.end());
+  const double length = tree_length(mesh_, weights_, candidate);
+  if (!(length < length_ - slack) || !check_full_component_tree(mesh_, candidate, terminals_).ok()) return false;
+  index(std::move(candidate));
+  return true;
+}
+
+// One sweep: every key path (longest first), then every Steiner point with its key paths.
+// After an accepted move the tree is re-indexed and the sweep goes on at the same position.
+Result<bool> sweep(Improver& tree, const ImproveOptions& options, ImproveStats& stats, const CancelToken& cancel) {
+  bool improved = false;
+  for (std::size_t i = 0; i < tree.key_paths().size(); ++i) {
+    if (stats.path_exchanges + stats.vertex_eliminations >= options.max_moves) return improved;
+    const std::size_t one[] = {i};
+    ++stats.moves_tried;
+    SEAM_TRY(bool moved, tree.try_move(one, cancel));
+    if (moved) ++stats.path_exchanges, improved = true;
+  }
+  for (std::size_t i = 0; i < tree.steiner_points().size(); ++i) {
+    if (stats.path_exchanges + stats.vertex_eliminations >= options.max_moves) return improved;
+    const std::vector<std::size_t> at = tree.paths_at(tree.steiner_points()[i]);
+    if (at.size() < 3) continue;
+    ++stats.moves_tried;
+    SEAM_TRY(bool moved, tree.try_move(at, cancel));
+    if (moved) ++stats.vertex_eliminations, improved = true;
+  }
+  return improved;
+}
+
+}  // namespace
+
+Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                   std::span<const double> edge_weights, std::span<const VertexId> terminals,
+                                   std::span<const EdgeId> edges, const ImproveOptions& options,
+                                   const CancelToken& cancel) {
+  if (auto valid = check_full_component_tree(mesh, edges, terminals); !valid.ok()) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "improve_tree needs a full-component tree: " + valid.error().message);
+  }
+  if (!edge_weights.empty() && edge_weights.size() != mesh.num_edges()) {
+    return make_error(ErrorCode::kInvalidArgument, "edge_weights must be empty or have one weight per edge");
+  }
+  Improver tree(mesh, graph, edge_weights, terminals);
+  tree.index(std::vector<EdgeId>(edges.begin(), edges.end()));
+  ImproveResult result;
+  result.stats.length_before = tree.length();
+  for (int pass = 0; pass < options.max_passes; ++pass) {
+    if (cancel.is_cancelled()) return cancelled_error("seam improvement");
+    SEAM_TRY(bool improved, sweep(tree, options, result.stats, cancel));
+    if (!improved) break;
+  }
+  result.stats.length_after = tree.length();
+  result.edges = tree.edges();
+  return result;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,58 @@
+// Beyond the paper: global improvement of a full-component seam tree that can move whole
+// branches, by key-path exchange and key-vertex elimination (Uchoa & Werneck 2010, adapted
+// to the constraint that every terminal stays a leaf). Where refine.h re-optimises a bounded
+// piece exactly, these moves reconnect the tree anywhere on the surface, each at the cost of
+// one or a few radius-bounded Dijkstra searches.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/paths/geodesic.h"
+#include "core/mesh/halfedge_mesh.h"
+
+namespace seam::core {
+
+struct ImproveOptions {
+  /// Sweeps over all key paths and key vertices; stops early after a sweep that gains nothing.
+  int max_passes = 8;
+  /// Accepted moves at most (each one shortens the tree; this only bounds pathological inputs).
+  std::size_t max_moves = 256;
+};
+
+struct ImproveStats {
+  std::size_t moves_tried = 0;
+  std::size_t path_exchanges = 0;     ///< accepted key-path exchanges
+  std::size_t vertex_eliminations = 0;  ///< accepted key-vertex eliminations
+  double length_before = 0;
+  double length_after = 0;
+};
+
+struct ImproveResult {
+  std::vector<EdgeId> edges;  ///< sorted; a full-component tree never longer than the input
+  ImproveStats stats;
+};
+
+/// Shortens `edges` (a full-component tree on `terminals`: check_full_component_tree holds)
+/// by two moves, each accepted only when the tree gets strictly shorter:
+/// - key-path exchange: a key path (a branch between two nodes, i.e. terminals or vertices of
+///   degree >= 3) is removed and the two parts are rejoined by the shortest path between
+///   them, which may end at any non-terminal vertex of either part (or at a terminal that is
+///   its part alone, which stays a leaf) and passes through no tree vertex;
+/// - key-vertex elimination: a Steiner point and its key paths are removed and the parts are
+///   rejoined greedily (Prim over the parts: the nearest part first, each new path joinable).
+/// Every search starts from the smaller side, is bounded by the length it must beat, and
+/// blocks the rest of the tree, so a move costs a few local Dijkstra runs.
+/// `graph` was built from `mesh` with `edge_weights` (empty: Euclidean); lengths are in
+/// those weights. Errors: kInvalidArgument (input not a full-component tree), kCancelled.
+/// Complexity per pass: O(sum over moves of n_m log n_m), n_m = vertices within the removed
+/// length of the smaller side. Deterministic (ties by vertex id).
+Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                   std::span<const double> edge_weights, std::span<const VertexId> terminals,
+                                   std::span<const EdgeId> edges, const ImproveOptions& options = {},
+                                   const CancelToken& cancel = CancelToken::none());
+
+}  // namespace seam::core
