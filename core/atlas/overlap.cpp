@@ -1,0 +1,247 @@
+#include "core/atlas/overlap.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/atlas/predicates.h"
+#include "core/mesh/topology.h"
+
+namespace seam::core {
+
+namespace {
+
+using Tri = std::array<Vec2, 3>;
+
+// Counter-clockwise copy, or false when the triangle has no interior (exactly collinear).
+bool counter_clockwise(const Tri& in, Tri& out) {
+  const int o = orient2d(in[0], in[1], in[2]);
+  if (o == 0) return false;
+  out = in;
+  if (o < 0) std::swap(out[1], out[2]);
+  return true;
+}
+
+// True when some edge line of `a` has all of `b` on its closed outer side.
+bool separated_by_edge_of(const Tri& a, const Tri& b) {
+  for (int k = 0; k < 3; ++k) {
+    const Vec2& p = a[k];
+    const Vec2& q = a[(k + 1) % 3];
+    if (orient2d(p, q, b[0]) <= 0 && orient2d(p, q, b[1]) <= 0 && orient2d(p, q, b[2]) <= 0) return true;
+  }
+  return false;
+}
+
+bool interiors_intersect_ccw(const Tri& a, const Tri& b) {
+  return !separated_by_edge_of(a, b) && !separated_by_edge_of(b, a);
+}
+
+double polygon_area(const std::vector<Vec2>& poly) {
+  double twice = 0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& p = poly[i];
+    const Vec2& q = poly[(i + 1) % poly.size()];
+    twice += p.x() * q.y() - p.y() * q.x();
+  }
+  return 0.5 * std::abs(twice);
+}
+
+double clipped_area_ccw(const Tri& a, const Tri& b) {
+  std::vector<Vec2> poly(b.begin(), b.end());
+  std::vector<Vec2> next;
+  for (int k = 0; k < 3 && !poly.empty(); ++k) {
+    const Vec2 p = a[k];
+    const Vec2 e = a[(k + 1) % 3] - p;
+    auto side = [&](const Vec2& x) { return e.x() * (x.y() - p.y()) - e.y() * (x.x() - p.x()); };
+    next.clear();
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vec2& s = poly[i];
+      const Vec2& t = poly[(i + 1) % poly.size()];
+      const double ds = side(s);
+      const double dt = side(t);
+      if (ds >= 0) next.push_back(s);
+      if ((ds >= 0) != (dt >= 0)) next.push_back(s + (ds / (ds - dt)) * (t - s));
+    }
+    poly.swap(next);
+  }
+  return poly.size() >= 3 ? polygon_area(poly) : 0.0;
+}
+
+struct Grid {
+  Vec2 origin = Vec2::Zero();
+  double inv_cell = 1;
+  std::int64_t nx = 1;
+  std::int64_t ny = 1;
+  std::vector<std::uint32_t> offset;  // CSR: cell -> triangles
+  std::vector<std::uint32_t> items;
+
+  std::int64_t cx(double x) const {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>((x - origin.x()) * inv_cell), 0, nx - 1);
+  }
+  std::int64_t cy(double y) const {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>((y - origin.y()) * inv_cell), 0, ny - 1);
+  }
+};
+
+struct Box {
+  Vec2 lo;
+  Vec2 hi;
+};
+
+// A uniform grid with about one cell per triangle (at most 2^22 cells); each triangle is
+// listed in every cell its bounding box meets.
+Grid build_grid(const std::vector<Box>& boxes, const std::vector<char>& live) {
+  Grid g;
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+  Vec2 hi = -lo;
+  std::size_t count = 0;
+  for (std::size_t t = 0; t < boxes.size(); ++t) {
+    if (!live[t]) continue;
+    lo = lo.cwiseMin(boxes[t].lo);
+    hi = hi.cwiseMax(boxes[t].hi);
+    ++count;
+  }
+  g.offset.assign(2, 0);
+  if (count == 0) return g;
+  const Vec2 extent = (hi - lo).cwiseMax(1e-300);
+  const double cells = std::min<double>(static_cast<double>(count), 1 << 22);
+  double cell = std::sqrt(extent.x() * extent.y() / cells);
+  if (!(cell > 0)) cell = std::max(extent.x(), extent.y()) / cells;
+  g.origin = lo;
+  g.inv_cell = 1.0 / cell;
+  g.nx = std::clamp<std::int64_t>(static_cast<std::int64_t>(extent.x() / cell) + 1, 1, 1 << 22);
+  g.ny = std::clamp<std::int64_t>(static_cast<std::int64_t>(extent.y() / cell) + 1, 1, 1 << 22);
+  while (g.nx * g.ny > (std::int64_t{1} << 23)) {  // a very thin layout: coarsen
+    g.inv_cell *= 0.5;
+    g.nx = (g.nx + 1) / 2;
+    g.ny = (g.ny + 1) / 2;
+  }
+  const auto ncell = static_cast<std::size_t>(g.nx * g.ny);
+  g.offset.assign(ncell + 1, 0);
+  auto for_cells = [&](std::size_t t, auto&& f) {
+    for (std::int64_t y = g.cy(boxes[t].lo.y()); y <= g.cy(boxes[t].hi.y()); ++y) {
+      for (std::int64_t x = g.cx(boxes[t].lo.x()); x <= g.cx(boxes[t].hi.x()); ++x) {
+        f(static_cast<std::size_t>(y * g.nx + x));
+      }
+    }
+  };
+  for (std::size_t t = 0; t < boxes.size(); ++t) {
+    if (live[t]) for_cells(t, [&](std::size_t c) { ++g.offset[c + 1]; });
+  }
+  for (std::size_t c = 0; c < ncell; ++c) g.offset[c + 1] += g.offset[c];
+  g.items.resize(g.offset[ncell]);
+  std::vector<std::uint32_t> fill(g.offset.begin(), g.offset.end() - 1);
+  for (std::size_t t = 0; t < boxes.size(); ++t) {
+    if (live[t]) for_cells(t, [&](std::size_t c) { g.items[fill[c]++] = static_cast<std::uint32_t>(t); });
+  }
+  return g;
+}
+
+}  // namespace
+
+bool triangle_interiors_intersect(const Tri& a, const Tri& b) {
+  Tri ca;
+  Tri cb;
+  if (!counter_clockwise(a, ca) || !counter_clockwise(b, cb)) return false;
+  return interiors_intersect_ccw(ca, cb);
+}
+
+double triangle_intersection_area(const Tri& a, const Tri& b) {
+  Tri ca;
+  Tri cb;
+  if (!counter_clockwise(a, ca) || !counter_clockwise(b, cb)) return 0;
+  return clipped_area_ccw(ca, cb);
+}
+
+Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Triangle> triangles,
+                                    std::span<const std::uint32_t> triangle_chart, const CancelToken& cancel) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!triangle_chart.empty() && triangle_chart.size() != triangles.size()) {
+    return make_error(ErrorCode::kInvalidArgument, "find_overlaps: triangle_chart has " +
+                                                       std::to_string(triangle_chart.size()) + " entries for " +
+                                                       std::to_string(triangles.size()) + " triangles");
+  }
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    if (!uv[v].allFinite()) {
+      return make_error(ErrorCode::kNonFinitePosition, "find_overlaps: UV " + std::to_string(v) + " is not finite",
+                        {static_cast<std::uint32_t>(v)});
+    }
+  }
+  const std::size_t nf = triangles.size();
+  std::vector<Tri> tri(nf);
+  std::vector<Box> boxes(nf);
+  std::vector<char> live(nf, 0);
+  OverlapResult result;
+  for (std::size_t t = 0; t < nf; ++t) {
+    Tri raw;
+    for (int k = 0; k < 3; ++k) {
+      if (triangles[t][k] >= uv.size()) {
+        return make_error(ErrorCode::kIndexOutOfRange,
+                          "find_overlaps: triangle " + std::to_string(t) + " names UV " +
+                              std::to_string(triangles[t][k]) + " of " + std::to_string(uv.size()),
+                          {static_cast<std::uint32_t>(t)});
+      }
+      raw[k] = uv[triangles[t][k]];
+    }
+    if (!counter_clockwise(raw, tri[t])) {
+      ++result.degenerate_triangles;
+      continue;
+    }
+    live[t] = 1;
+    boxes[t] = {raw[0].cwiseMin(raw[1]).cwiseMin(raw[2]), raw[0].cwiseMax(raw[1]).cwiseMax(raw[2])};
+    const Vec2 e1 = tri[t][1] - tri[t][0];
+    const Vec2 e2 = tri[t][2] - tri[t][0];
+    result.uv_area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+  }
+
+  const Grid g = build_grid(boxes, live);
+  std::uint32_t poll = 0;
+  for (std::size_t c = 0; c + 1 < g.offset.size(); ++c) {
+    const std::int64_t cx = static_cast<std::int64_t>(c) % g.nx;
+    const std::int64_t cy = static_cast<std::int64_t>(c) / g.nx;
+    for (std::uint32_t i = g.offset[c]; i < g.offset[c + 1]; ++i) {
+      if (cancel.poll(poll)) return cancelled_error("find_overlaps");
+      const std::uint32_t a = g.items[i];
+      for (std::uint32_t j = i + 1; j < g.offset[c + 1]; ++j) {
+        const std::uint32_t b = g.items[j];
+        const Vec2 lo = boxes[a].lo.cwiseMax(boxes[b].lo);
+        const Vec2 hi = boxes[a].hi.cwiseMin(boxes[b].hi);
+        // Boxes meeting only along a line cannot share interior points.
+        if (!(lo.x() < hi.x() && lo.y() < hi.y())) continue;
+        if (g.cx(lo.x()) != cx || g.cy(lo.y()) != cy) continue;  // counted in another cell
+        ++result.candidate_pairs;
+        if (!interiors_intersect_ccw(tri[a], tri[b])) continue;
+        const double area = clipped_area_ccw(tri[a], tri[b]);
+        const std::uint32_t lo_t = std::min(a, b);
+        const std::uint32_t hi_t = std::max(a, b);
+        if (!result.overlaps || lo_t < result.first_pair[0] ||
+            (lo_t == result.first_pair[0] && hi_t < result.first_pair[1])) {
+          result.first_pair[0] = lo_t;
+          result.first_pair[1] = hi_t;
+        }
+        result.overlaps = true;
+        ++result.overlapping_pairs;
+        result.overlap_area += area;
+        const bool same = triangle_chart.empty() || triangle_chart[a] == triangle_chart[b];
+        (same ? result.within_chart_area : result.between_charts_area) += area;
+      }
+    }
+  }
+  result.overlap_fraction = result.uv_area > 0 ? result.overlap_area / result.uv_area : 0.0;
+  result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+Result<OverlapResult> find_overlaps(const HalfedgeMesh& mesh, const VertexData<Vec2>& uv, const CancelToken& cancel) {
+  if (uv.size() != mesh.num_vertices()) {
+    return make_error(ErrorCode::kInvalidArgument, "find_overlaps: " + std::to_string(uv.size()) + " UVs for " +
+                                                       std::to_string(mesh.num_vertices()) + " vertices");
+  }
+  const std::vector<Triangle> triangles = mesh.triangles();
+  const Topology topology = compute_topology(mesh);
+  return find_overlaps(uv.raw(), triangles, topology.face_component.raw(), cancel);
+}
+
+}  // namespace seam::core
