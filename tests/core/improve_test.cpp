@@ -1,0 +1,151 @@
+#include <doctest/doctest.h>
+
+#include <functional>
+#include <map>
+#include <random>
+#include <set>
+
+#include "core/seam/baselines.h"
+#include "core/seam/improve.h"
+#include "core/seam/skeleton.h"
+#include "core/seam/straighten.h"
+#include "core/paths/steiner.h"
+#include "fixtures.h"
+#include "skeleton_fixtures.h"
+#include "test_data.h"
+
+using namespace seam::core;
+namespace fx = seam::fixtures;
+
+namespace {
+
+HalfedgeMesh spiky_mesh(int spikes, std::vector<VertexId>& tips) {
+  const auto s = fx::spiky_sphere(3, fx::spread_directions(spikes));
+  for (auto t : s.tips) tips.push_back(VertexId(t));
+  return build_halfedge_mesh(s.soup.positions, s.soup.triangles).value();
+}
+
+// Independent check: one tree over the terminals, every terminal of degree 1, no other leaf.
+// Returns its length (Euclidean).
+double require_full_component(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges,
+                              const std::vector<VertexId>& terminals) {
+  REQUIRE_FALSE(edges.empty());
+  std::map<std::uint32_t, int> degree;
+  std::map<std::uint32_t, std::uint32_t> parent;
+  std::function<std::uint32_t(std::uint32_t)> find = [&](std::uint32_t x) {
+    if (!parent.count(x)) parent[x] = x;
+    return parent[x] == x ? x : parent[x] = find(parent[x]);
+  };
+  double length = 0;
+  for (EdgeId e : edges) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(e);
+    const auto a = mesh.tail(h).value(), b = mesh.head(h).value();
+    ++degree[a];
+    ++degree[b];
+    const auto ra = find(a), rb = find(b);
+    REQUIRE_MESSAGE(ra != rb, "a cycle");
+    parent[ra] = rb;
+    length += mesh.edge_length(e);
+  }
+  CHECK(degree.size() == edges.size() + 1);
+  std::set<std::uint32_t> is_terminal;
+  for (VertexId t : terminals) {
+    is_terminal.insert(t.value());
+    CHECK_MESSAGE(degree[t.value()] == 1, "terminal " << t.value() << " is not a leaf");
+  }
+  for (const auto& [v, d] : degree) {
+    if (!is_terminal.count(v)) CHECK_MESSAGE(d >= 2, "dangling vertex " << v);
+  }
+  return length;
+}
+
+}  // namespace
+
+TEST_CASE("improve_tree: the star tree gets shorter, stays a full component, never below the optimum") {
+  std::vector<VertexId> tips;
+  const HalfedgeMesh mesh = spiky_mesh(6, tips);
+  const EdgeGraph graph = build_edge_graph(mesh);
+  auto star = star_tree(mesh, graph, tips);
+  REQUIRE(star.ok());
+  const double star_length = require_full_component(mesh, *star, tips);
+  auto improved = improve_tree(mesh, graph, {}, tips, *star);
+  REQUIRE(improved.ok());
+  const double length = require_full_component(mesh, improved->edges, tips);
+  CHECK(length < star_length);  // the star through one centre is far from optimal on spikes
+  CHECK(improved->stats.length_before == doctest::Approx(star_length));
+  CHECK(improved->stats.length_after == doctest::Approx(length));
+  CHECK(improved->stats.path_exchanges + improved->stats.vertex_eliminations > 0);
+  auto optimal = optimal_seam(mesh, graph, {}, tips, 10);
+  REQUIRE(optimal.ok());
+  CHECK(optimal->length <= length + 1e-9);
+}
+
+TEST_CASE("improve_tree: random terminal sets on a real mesh never lengthen the skeleton and are deterministic") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<VertexId> terminals;
+    while (terminals.size() < static_cast<std::size_t>(3 + trial)) {
+      const VertexId v(static_cast<std::uint32_t>(rng() % mesh.num_vertices()));
+      if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
+    }
+    CAPTURE(trial);
+    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
+    REQUIRE(paths.ok());
+    auto skeleton = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false});
+    REQUIRE(skeleton.ok());
+    const double before = require_full_component(mesh, skeleton->tree.edges, terminals);
+    auto a = improve_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
+    auto b = improve_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
+    REQUIRE(a.ok());
+    REQUIRE(b.ok());
+    CHECK(a->edges == b->edges);
+    const double after = require_full_component(mesh, a->edges, terminals);
+    CHECK(after <= before + 1e-12);
+    auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+    REQUIRE(optimal.ok());
+    CHECK(optimal->length <= after + 1e-9);
+  }
+}
+
+TEST_CASE("improve_tree: weighted edges are what it shortens") {
+  std::vector<VertexId> tips;
+  const HalfedgeMesh mesh = spiky_mesh(4, tips);
+  // Weights that make edges near +x expensive: the improved tree must not get heavier.
+  std::vector<double> weights(mesh.num_edges());
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+    const double x = 0.5 * (mesh.position(mesh.tail(h)).x() + mesh.position(mesh.head(h)).x());
+    weights[e] = mesh.edge_length(EdgeId(e)) * (x > 0.3 ? 5.0 : 1.0);
+  }
+  const EdgeGraph graph = build_edge_graph(mesh, weights);
+  auto star = star_tree(mesh, graph, tips);
+  REQUIRE(star.ok());
+  auto weighted_length = [&](const std::vector<EdgeId>& edges) {
+    double sum = 0;
+    for (EdgeId e : edges) sum += weights[e.index()];
+    return sum;
+  };
+  auto improved = improve_tree(mesh, graph, weights, tips, *star);
+  REQUIRE(improved.ok());
+  require_full_component(mesh, improved->edges, tips);
+  CHECK(weighted_length(improved->edges) <= weighted_length(*star) + 1e-12);
+  CHECK(improved->stats.length_after == doctest::Approx(weighted_length(improved->edges)));
+}
+
+TEST_CASE("improve_tree: input that is not a full-component tree, and bad weights, are refused") {
+  std::vector<VertexId> tips;
+  const HalfedgeMesh mesh = spiky_mesh(4, tips);
+  const EdgeGraph graph = build_edge_graph(mesh);
+  const std::vector<EdgeId> one = {EdgeId(0u)};
+  auto bad = improve_tree(mesh, graph, {}, tips, one);
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().code == ErrorCode::kInvalidArgument);
+  auto star = star_tree(mesh, graph, tips);
+  REQUIRE(star.ok());
+  const std::vector<double> short_weights(3, 1.0);
+  auto weights = improve_tree(mesh, graph, short_weights, tips, *star);
+  REQUIRE_FALSE(weights.ok());
+  CHECK(weights.error().code == ErrorCode::kInvalidArgument);
+}
