@@ -27,7 +27,7 @@ struct SeamOptions {
   /// Skeleton only: shorten the straightened skeleton while keeping every extremum a leaf.
   bool refine = true;
   /// Skeleton only: move whole branches by key-path exchange and key-vertex elimination
-  /// (core/seam/improve.h) before and after the refinement.
+  /// (core/seam/improve.h) after the refinement.
   bool improve = true;
   /// Skeleton only: when the exact optimum is cheap, return it instead (SeamResult::optimal).
   /// Its cost is estimated as 2^(k-1) x V (k terminals on the component, boundary terminal

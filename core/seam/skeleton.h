@@ -16,7 +16,7 @@ struct SkeletonOptions {
   /// After §4.4, shorten the tree while every terminal stays a leaf (relocate Steiner
   /// points, re-straighten). On by default only where measured to help.
   bool refine = true;
-  /// After §4.4 (before and after the refinement), move whole branches by key-path exchange
+  /// After §4.4 and the refinement, move whole branches by key-path exchange
   /// and key-vertex elimination (core/seam/improve.h) while every terminal stays a leaf.
   bool improve = true;
 };
