@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/paths/forest.h"
 #include "core/paths/path_search.h"
 #include "core/seam/straighten.h"
 
@@ -33,7 +34,7 @@ class Improver {
  public:
   Improver(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> weights,
            std::span<const VertexId> terminals)
-      : mesh_(mesh), weights_(weights), terminals_(terminals), search_(graph),
+      : mesh_(mesh), weights_(weights), terminals_(terminals), search_(graph), graph_(graph),
         is_terminal_(mesh.num_vertices(), 0), local_(mesh.num_vertices(), -1),
         removed_edge_(mesh.num_edges(), 0) {
     for (VertexId t : terminals) is_terminal_[t.index()] = 1;
@@ -67,11 +68,16 @@ class Improver {
   Result<double> rejoin(std::size_t parts, const std::vector<std::int32_t>& part,
                         const std::vector<std::uint8_t>& alive, std::vector<std::uint8_t>& attachable,
                         double budget, std::vector<EdgeId>& added, const CancelToken& cancel);
+  Result<double> junction(const std::vector<std::int32_t>& part, const std::vector<std::uint8_t>& alive,
+                          const std::vector<std::uint8_t>& attachable, double budget, std::vector<EdgeId>& added,
+                          const CancelToken& cancel);
 
   const HalfedgeMesh& mesh_;
   std::span<const double> weights_;
   std::span<const VertexId> terminals_;
   PathSearch search_;
+  std::vector<PathSearch> part_search_;  // one per part for junction(), made on first use
+  const EdgeGraph& graph_;
   std::vector<std::uint8_t> is_terminal_;
   std::vector<std::int32_t> local_;  // tree vertex -> index in vertices_, -1 off the tree
   std::vector<std::uint8_t> removed_edge_;
@@ -215,6 +221,47 @@ Result<double> Improver::rejoin(std::size_t parts, const std::vector<std::int32_
   return used;
 }
 
+// Three parts: the exact best single junction (key-vertex relocation). One search per part,
+// each from its attachable vertices, blocked by the other parts' attachable vertices and
+// bounded by `budget`; the junction is the non-terminal vertex minimising the sum of the
+// three distances (zero for its own part). Returns the sum, or infinity when over budget.
+Result<double> Improver::junction(const std::vector<std::int32_t>& part, const std::vector<std::uint8_t>& alive,
+                                  const std::vector<std::uint8_t>& attachable, double budget,
+                                  std::vector<EdgeId>& added, const CancelToken& cancel) {
+  while (part_search_.size() < 3) part_search_.emplace_back(graph_);
+  for (std::int32_t p = 0; p < 3; ++p) {
+    PathSearch& search = part_search_[static_cast<std::size_t>(p)];
+    search.reset();
+    search.clear_marks();
+    for (std::size_t i = 0; i < vertices_.size(); ++i) {
+      if (!alive[i]) continue;
+      if (!attachable[i]) {
+        search.forbid(vertices_[i]);
+      } else if (part[i] == p) {
+        search.add_source(vertices_[i]);
+      } else {
+        search.block(vertices_[i]);
+      }
+    }
+    if (auto st = search.run({}, budget, cancel); !st.ok()) return st.take_error();
+  }
+  double best = std::numeric_limits<double>::infinity();
+  VertexId at;
+  for (VertexId v : part_search_[0].settled()) {
+    if (is_terminal_[v.index()]) continue;  // a junction there would make a terminal inner
+    const double sum = part_search_[0].distance(v) + part_search_[1].distance(v) + part_search_[2].distance(v);
+    if (sum < best || (sum == best && v < at)) {
+      best = sum;
+      at = v;
+    }
+  }
+  if (!(best < budget)) return std::numeric_limits<double>::infinity();
+  for (const PathSearch& search : part_search_) {
+    for (HalfedgeId h : search.path_to(mesh_, at)) added.push_back(HalfedgeMesh::edge(h));
+  }
+  return best;
+}
+
 Result<bool> Improver::try_move(std::span<const std::size_t> removed, const CancelToken& cancel) {
   std::vector<std::uint8_t> alive(vertices_.size(), 1);
   double removed_length = 0.0;
@@ -241,7 +288,8 @@ Result<bool> Improver::try_move(std::span<const std::size_t> removed, const Canc
   const std::size_t parts = label_parts(part, alive);
   std::vector<EdgeId> added;
   const double slack = 1e-9 * (1.0 + removed_length);
-  auto joined = rejoin(parts, part, alive, attachable, removed_length - slack, added, cancel);
+  auto joined = parts == 3 ? junction(part, alive, attachable, removed_length - slack, added, cancel)
+                           : rejoin(parts, part, alive, attachable, removed_length - slack, added, cancel);
   for (std::size_t p : removed) {
     for (HalfedgeId h : key_paths_[p].course) removed_edge_[HalfedgeMesh::edge(h).index()] = 0;
   }
@@ -257,8 +305,8 @@ Result<bool> Improver::try_move(std::span<const std::size_t> removed, const Canc
     if (!std::binary_search(gone.begin(), gone.end(), e)) candidate.push_back(e);
   }
   candidate.insert(candidate.end(), added.begin(), added.end());
-  std::sort(candidate.begin(), candidate.end());
-  candidate.erase(std::unique(candidate.begin(), candidate.end()), candidate.end());
+  // Paths to one junction may share a stretch (a cycle) or leave a part's old end dangling.
+  candidate = pruned_spanning_forest(mesh_, candidate, terminals_, weights_);
   const double length = tree_length(mesh_, weights_, candidate);
   if (!(length < length_ - slack) || !check_full_component_tree(mesh_, candidate, terminals_).ok()) return false;
   index(std::move(candidate));
