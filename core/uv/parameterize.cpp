@@ -6,7 +6,9 @@
 #include <numeric>
 #include <string>
 
+#include "core/atlas/overlap.h"
 #include "core/uv/arap.h"
+#include "core/uv/collision.h"
 #include "core/uv/bff.h"
 #include "core/uv/slim.h"
 #include "core/uv/distortion.h"
@@ -156,11 +158,17 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
       case UvMethod::kSlim: {
         SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel));
         repair_flips(patch, start_uv);
-        SEAM_TRY(SlimResult slim, flatten_slim(patch, std::move(start_uv), {.iterations = options.slim_iterations, .proxy = options.slim_proxy}, cancel));
+        SEAM_TRY(SlimResult slim, flatten_slim(patch, std::move(start_uv),
+                                               {.iterations = options.slim_iterations,
+                                                .proxy = options.slim_proxy,
+                                                .injective = options.injective},
+                                               cancel));
+        if (slim.overlapping_start) ++result.overlapping_starts;
         uv = std::move(slim.uv);
         break;
       }
     }
+    if (count_flipped(patch, uv) > 0 || !boundary_is_simple(patch, uv)) ++result.charts_not_injective;
     charts.push_back(normalise_chart(patch, std::move(uv)));
   }
   result.solve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -169,7 +177,6 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
   const double fit = std::max(extent.x(), extent.y());
   const double inv = fit > 0 ? 1.0 / fit : 1.0;
 
-  // The stored UVs are float32: round here so that what we measure is what ships.
   // The stored UVs are float32: round here so that what we measure is what ships.
   result.uv.assign(disc_mesh.num_vertices(), Vec2::Zero());
   for (std::size_t c = 0; c < patches.size(); ++c) {
@@ -182,6 +189,10 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
     for (std::size_t v = 0; v < patch.num_vertices(); ++v) result.uv[patch.to_mesh[v]] = uv[v];
   }
   result.distortion = measure_distortion(disc_mesh, result.uv);
+  SEAM_TRY(OverlapResult overlap, find_overlaps(disc_mesh, result.uv, cancel));
+  result.overlap_area = overlap.overlap_area;
+  result.overlap_fraction = overlap.overlap_fraction;
+  result.overlap_ms = overlap.ms;
   return result;
 }
 

@@ -38,6 +38,8 @@ struct UvOptions {
   int slim_iterations = 12;
   /// SLIM only: its proxy (see slim.h); the isotropic one is several times faster per step.
   SlimProxy slim_proxy = SlimProxy::kIsotropic;
+  /// SLIM only: keep every chart globally injective, not only fold-free (SlimOptions::injective).
+  bool injective = true;
   /// Gap between packed charts, as a fraction of the square root of the total chart area.
   /// 0..1. Unused with a single chart.
   double chart_gap = 0.02;
@@ -72,6 +74,16 @@ struct UvResult {
   std::size_t charts = 0;  ///< connected components flattened
   UvMethod method_used = UvMethod::kBff;  ///< differs from the request only as kArap documents
   double solve_ms = 0;     ///< flattening time (all charts), without packing and measuring
+  /// Overlap of the stored UVs (core/atlas/overlap.h): the area covered by two triangles, in
+  /// UV units of the [0,1]^2 layout, and as a fraction of the charts' UV area; within one
+  /// chart or between charts. 0 for the default method (the test suite checks it).
+  double overlap_area = 0;
+  double overlap_fraction = 0;
+  /// SLIM charts whose start overlapped itself (restarted from Tutte), and charts that are not
+  /// injective after flattening (any method; kSlim with `injective` leaves none).
+  std::size_t overlapping_starts = 0;
+  std::size_t charts_not_injective = 0;
+  double overlap_ms = 0;   ///< time of the exact overlap measurement
 };
 
 /// Flattens every component of `disc_mesh` (each must be a topological disc) with
@@ -80,7 +92,10 @@ struct UvResult {
 /// rounds to float32, and measures the distortion of what is stored.
 /// kArap starts from BFF; for a chart where ARAP ends with more flipped triangles than its
 /// BFF start, that chart keeps the BFF map (method_used reports kBff if any chart did).
-/// kSlim starts from BFF (or from Tutte's embedding where BFF folds) and never adds a fold.
+/// kSlim starts from BFF (or from Tutte's embedding where BFF folds or overlaps itself), never
+/// adds a fold and, with options.injective, keeps each chart's boundary a simple curve, so no
+/// chart overlaps itself; the shelf packing keeps charts apart. The stored UVs' overlap is
+/// measured exactly (overlap_area).
 /// Errors: kInvalidArgument (options out of range), kEmptyMesh (no faces),
 /// kTopologyViolation (a component is not a disc), kSolverFailed, kCancelled.
 /// Complexity: one or two sparse Cholesky factorizations per chart (see lscm.h, bff.h, arap.h),

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "core/uv/collision.h"
 #include "core/uv/distortion.h"
 #include "core/uv/sparse_cholesky.h"
 
@@ -185,13 +186,22 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
   if (has_fold(patch, ops, initial)) {
     SEAM_TRY(initial, tutte_embedding(patch));
     result.tutte_start = true;
+  } else if (options.injective && !boundary_is_simple(patch, initial)) {
+    // Fold-free but overlapping (a boundary that winds over itself): Tutte's map on a convex
+    // boundary is bijective, and the bounded steps below keep it so.
+    SEAM_TRY(initial, tutte_embedding(patch));
+    result.tutte_start = true;
+    result.overlapping_start = true;
   }
   scale_to_surface_area(patch, ops, initial);
   result.energy_start = mean_energy(patch, ops, initial);
   result.energy_end = result.energy_start;
   result.uv = std::move(initial);
   std::vector<Vec2>& uv = result.uv;
-  if (options.iterations == 0 || n < 2) return result;
+  if (options.iterations == 0 || n < 2) {
+    result.injective = !has_fold(patch, ops, result.uv) && boundary_is_simple(patch, result.uv);
+    return result;
+  }
 
   // Vertex 0 is pinned (the energy is translation invariant). Anisotropic proxy: unknowns
   // (u, v) of vertices 1..n-1 interleaved, each vertex a 2x2 block. Isotropic proxy: one
@@ -255,7 +265,10 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
   // precision; then the weights are capped and the step retried. The line search on the true
   // energy keeps every step a descent step either way.
   double weight_cap = kInf;
-  for (int iter = 0; iter < options.iterations; ++iter) {
+  // A Tutte start is far from the optimum (its convex boundary squeezes whole regions), so it
+  // gets three times the step budget.
+  const int max_iterations = result.tutte_start ? 3 * options.iterations : options.iterations;
+  for (int iter = 0; iter < max_iterations; ++iter) {
     if (cancel.is_cancelled()) return cancelled_error("SLIM");
     // Proxy: sum_t A_t |W_t (J_t - R_t)|^2. Its normal equations have block (k, l) =
     // A_t (g_k . g_l) M_t and right-hand side A_t M_t R_t g_k for vertex k, M_t = W_t^T W_t.
@@ -322,21 +335,55 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
 
     // Backtracking on the true energy, from the largest step that keeps every triangle
     // positive (with a margin, since the energy is infinite at the bound itself).
+    auto line_search = [&](const std::vector<Vec2>& dir, double step) {
+      double trial_energy = kInf;
+      for (int halving = 0; halving < 30 && step > 1e-12; ++halving, step *= 0.5) {
+        for (std::size_t v = 0; v < n; ++v) trial[v] = uv[v] + step * dir[v];
+        trial_energy = mean_energy(patch, ops, trial);
+        if (trial_energy < energy) break;
+      }
+      return trial_energy;
+    };
     double step = std::min(1.0, 0.9 * max_injective_step(patch, uv, direction));
     double trial_energy = kInf;
-    for (int halving = 0; halving < 30 && step > 1e-12; ++halving, step *= 0.5) {
-      for (std::size_t v = 0; v < n; ++v) trial[v] = uv[v] + step * direction[v];
-      trial_energy = mean_energy(patch, ops, trial);
-      if (trial_energy < energy) break;
+    bool searched = false;
+    bool collided = false;
+    if (options.injective) {
+      CollisionStep collision = max_collision_free_step(patch, uv, direction, step);
+      if (collision.limited) {
+        ++result.collision_limited_steps;
+        collided = true;
+        // Truncating the whole step at the first contact would stall every vertex for the
+        // sake of a few. Instead hold the vertices of the colliding pairs where they are and
+        // let the rest move (bounds recomputed for that direction, so the guarantees hold);
+        // a few rounds, since holding some may expose other contacts.
+        std::vector<Vec2> held = direction;
+        for (int round = 0; round < 4 && collision.limited; ++round) {
+          for (std::uint32_t v : collision.colliding) held[v] = Vec2::Zero();
+          const double held_step = std::min(1.0, 0.9 * max_injective_step(patch, uv, held));
+          collision = max_collision_free_step(patch, uv, held, held_step);
+          if (!collision.limited || round == 3) {
+            const double bound = collision.limited ? 0.9 * collision.step : held_step;
+            trial_energy = line_search(held, bound);
+            searched = trial_energy < energy;
+          }
+        }
+        if (!searched) {
+          step = 0.9 * max_collision_free_step(patch, uv, direction, step).step;
+        }
+      }
     }
+    if (!searched) trial_energy = line_search(direction, step);
     if (!(trial_energy < energy)) break;  // no descent along the proxy's step: converged
     uv.swap(trial);
     const double decrease = (energy - trial_energy) / energy;
     energy = trial_energy;
     ++result.iterations;
-    if (decrease < options.tolerance) break;
+    // A step held back by a contact gains little without being converged: go on.
+    if (decrease < options.tolerance && !collided) break;
   }
   result.energy_end = energy;
+  result.injective = !has_fold(patch, ops, uv) && boundary_is_simple(patch, uv);
   return result;
 }
 

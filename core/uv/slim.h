@@ -21,6 +21,11 @@ struct SlimOptions {
   /// The isotropic proxy factors about 4x faster per step and, on the CGAL protrusion meshes,
   /// ends within 3% of the anisotropic one's distortion (bench/uv_bench.cpp, docs/uv.md).
   SlimProxy proxy = SlimProxy::kIsotropic;
+  /// Keep the map globally injective (bijective onto its image), not only fold-free: start
+  /// from Tutte's embedding when the given start's boundary is not a simple curve, and bound
+  /// every step so that no boundary vertex reaches a boundary edge (collision.h). Costs one
+  /// O(B) grid pass per step; it changes nothing on steps that collide with nothing.
+  bool injective = true;
 };
 
 struct SlimResult {
@@ -34,6 +39,14 @@ struct SlimResult {
   /// The proxy system could not be factored (numerically not positive definite) or solved:
   /// SLIM stopped at its last iterate, which is still fold-free.
   bool numerical_stop = false;
+  /// With options.injective: the given start had no fold but its boundary crossed itself, so
+  /// SLIM started from Tutte's embedding (tutte_start is then true as well).
+  bool overlapping_start = false;
+  /// Steps whose length the boundary collision bound shortened.
+  int collision_limited_steps = 0;
+  /// The result's boundary is a simple closed curve and no triangle folds: the map is
+  /// injective (always true with options.injective, up to the rounding of the contact times).
+  bool injective = false;
 };
 
 /// Minimises the symmetric Dirichlet energy (area-weighted, free boundary) starting from
@@ -44,7 +57,10 @@ struct SlimResult {
 /// factorization once, numeric per iteration) and line-searches the true energy along the step,
 /// never past the first degeneration of a triangle, so the result has no folds whenever the
 /// start had none. Because the energy grows without bound as a triangle degenerates, nothing
-/// "locks" the way ARAP's bounded steps do.
+/// "locks" the way ARAP's bounded steps do. With options.injective (the default) the map also
+/// stays globally injective: a Tutte start when the given start's boundary crosses itself, and
+/// each step bounded by Smith & Schaefer 2015's collision bound (no barrier term: a boundary
+/// that would cross itself stops at 90% of the contact, step after step).
 /// Errors: kInvalidArgument (initial.size() != patch vertices, options out of range),
 /// kSolverFailed (only if the Tutte start cannot be solved), kCancelled.
 /// Complexity: iterations x (sparse Cholesky of 2n x 2n + O(F) line search).

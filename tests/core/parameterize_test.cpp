@@ -7,7 +7,10 @@
 #include <numbers>
 #include <string>
 
+#include "atlas_test_util.h"
+#include "core/atlas/overlap.h"
 #include "core/mesh/cut.h"
+#include "core/seam/cut_graph.h"
 #include "core/uv/distortion.h"
 #include "core/extrema/extrema.h"
 #include "core/mesh/halfedge_mesh.h"
@@ -387,5 +390,58 @@ TEST_CASE("tiny charts: a lone triangle (no interior vertex) and an isolated ver
     CHECK(r->distortion.area_geometric == doctest::Approx(1.0).epsilon(1e-5));
     CHECK(r->distortion.angle == doctest::Approx(1.0).epsilon(1e-5));
     CHECK(r->uv[VertexId(std::size_t{3})] == Vec2(0, 0));
+  }
+}
+
+TEST_CASE("the default map is overlap-free: no UV point covered twice, counted by rasterization") {
+  // dino and homer: SLIM's unconstrained boundary crossed itself (docs/uv.md); elephant: BFF's
+  // start overlapped (restarted from Tutte); the genus-9 slab cut only to a disc: one chart
+  // whose boundary winds around 9 handles.
+  struct Case {
+    std::string name;
+    bool cut_graph_only;
+  };
+  for (const Case& c : {Case{"dino", false}, Case{"homer", false}, Case{"elephant", false}, Case{"slab-9", true}}) {
+    CAPTURE(c.name);
+    const HalfedgeMesh mesh = c.name == "slab-9" ? build_halfedge_mesh(seam::fixtures::holed_slab(9).positions,
+                                                                       seam::fixtures::holed_slab(9).triangles)
+                                                       .value()
+                                                 : seam::test_data::load_cgal_halfedge(c.name);
+    std::vector<EdgeId> edges;
+    if (c.cut_graph_only) {
+      auto cg = compute_cut_graph(mesh);
+      REQUIRE(cg.ok());
+      edges = *cg;
+    } else {
+      auto extrema = find_extrema(mesh);
+      REQUIRE(extrema.ok());
+      auto seam = compute_seam(mesh, *extrema, {.method = SeamMethod::kSkeleton});
+      REQUIRE(seam.ok());
+      edges = all_cut_edges(*seam);
+    }
+    auto cut = cut_along_edges(mesh, edges);
+    REQUIRE(cut.ok());
+    auto r = parameterize(cut->mesh);
+    REQUIRE(r.ok());
+    CHECK(r->distortion.flipped == 0);
+    // Injective in double precision; rounding to float32 can still push a boundary vertex that
+    // SLIM brought within an ulp of an edge across it (slab-9: 1e-16 of the area). Known limit,
+    // reported in overlap_area, not hidden.
+    CHECK(r->charts_not_injective == 0);
+    CHECK(r->overlap_fraction < 1e-9);
+    auto exact = find_overlaps(cut->mesh, r->uv);
+    REQUIRE(exact.ok());
+    CHECK(exact->overlap_area == r->overlap_area);
+    const std::vector<Triangle> tris = cut->mesh.triangles();
+    const seam::atlas_test::RasterCount raster = seam::atlas_test::rasterize(r->uv.raw(), tris, 2048);
+    CHECK(raster.covered > 0);
+    CHECK(raster.twice == 0);
+    // Fold-free-only SLIM on the same disc overlaps (what the injective map fixes) or not:
+    // either way the exact measure agrees with the raster's.
+    auto loose = parameterize(cut->mesh, {.injective = false});
+    REQUIRE(loose.ok());
+    const seam::atlas_test::RasterCount loose_raster = seam::atlas_test::rasterize(loose->uv.raw(), tris, 2048);
+    CHECK(std::abs(loose->overlap_area - loose_raster.pair_weighted * loose_raster.sample_area) <=
+          0.01 * loose_raster.covered * loose_raster.sample_area + 1e-9);
   }
 }

@@ -6,7 +6,12 @@
 #include <cmath>
 #include <limits>
 
+#include <algorithm>
+#include <numbers>
+
+#include "core/atlas/overlap.h"
 #include "core/uv/bff.h"
+#include "core/uv/collision.h"
 #include "core/uv/slim.h"
 #include "core/mesh/topology.h"
 #include "core/uv/uv_patch.h"
@@ -141,4 +146,96 @@ TEST_CASE("SLIM refuses bad arguments and stops when cancelled") {
   CancelToken token;
   token.cancel();
   CHECK(flatten_slim(patch, start, {}, token).error().code == ErrorCode::kCancelled);
+}
+
+namespace {
+
+/// A flat strip of n x 2 quads (3D: [0, n/4] x [0, 1/2]) whose given UV start bends it around
+/// the origin through `turn` radians: fold-free, but past 2 pi its boundary crosses itself.
+struct BentStrip {
+  DiscPatch patch;
+  std::vector<Vec2> start;
+};
+
+BentStrip bent_strip(int n, double turn) {
+  fx::Soup s;
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j <= 2; ++j) s.positions.emplace_back(0.25 * i, 0.25 * j, 0.0);
+  }
+  auto id = [](int i, int j) { return static_cast<std::uint32_t>(3 * i + j); };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  BentStrip b{patch_of(s), {}};
+  b.start.resize(b.patch.num_vertices());
+  for (std::size_t v = 0; v < b.start.size(); ++v) {
+    const Vec3& p = b.patch.positions[v];
+    // Across the strip towards the centre (radius 1.5 down to 1), along it counter-clockwise:
+    // positive orientation.
+    const double a = turn * p.x() / (0.25 * n);
+    const double r = 1.5 - p.y();
+    b.start[v] = Vec2(r * std::cos(a), r * std::sin(a));
+  }
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("an overlapping fold-free start is restarted from Tutte and the result is injective") {
+  BentStrip b = bent_strip(40, 2.6 * std::numbers::pi);
+  REQUIRE(count_flipped(b.patch, b.start) == 0);
+  REQUIRE_FALSE(boundary_is_simple(b.patch, b.start));
+  auto start_overlap = find_overlaps(b.start, b.patch.triangles);
+  REQUIRE(start_overlap.ok());
+  REQUIRE(start_overlap->overlaps);
+
+  auto r = flatten_slim(b.patch, b.start, {}, CancelToken::none());
+  REQUIRE(r.ok());
+  CHECK(r->overlapping_start);
+  CHECK(r->tutte_start);
+  CHECK(r->injective);
+  CHECK(count_flipped(b.patch, r->uv) == 0);
+  auto end_overlap = find_overlaps(r->uv, b.patch.triangles);
+  REQUIRE(end_overlap.ok());
+  CHECK_FALSE(end_overlap->overlaps);
+  // The strip is flat: SLIM unbends it towards the isometry.
+  CHECK(r->energy_end < 4.2);
+
+  // Without injectivity, the start is kept (it has no fold) and the result may overlap.
+  auto loose = flatten_slim(b.patch, b.start, {.injective = false}, CancelToken::none());
+  REQUIRE(loose.ok());
+  CHECK_FALSE(loose->overlapping_start);
+  CHECK_FALSE(loose->tutte_start);
+}
+
+TEST_CASE("the collision step bound stops a boundary vertex exactly at the edge it would cross") {
+  // A flat square fan: boundary 0-1-2-3, centre 4. Move boundary vertex 2 straight down across
+  // the opposite side through the square; the contact with edge (0, 1) on y = 0 is at t = 1.
+  fx::Soup s;
+  s.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0.5, 0.5, 0)};
+  s.triangles = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+  const DiscPatch patch = patch_of(s);
+  std::vector<Vec2> uv(patch.num_vertices());
+  std::vector<Vec2> dir(patch.num_vertices(), Vec2::Zero());
+  std::uint32_t moving = 0;
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    uv[v] = patch.positions[v].head<2>();
+    if (uv[v] == Vec2(1, 1)) moving = static_cast<std::uint32_t>(v);
+  }
+  CHECK(boundary_is_simple(patch, uv));
+  dir[moving] = Vec2(-0.25, -1);  // reaches (0.75, 0) on edge (0,0)-(1,0) at t = 1
+  const CollisionStep c = max_collision_free_step(patch, uv, dir, 5.0);
+  CHECK(c.limited);
+  CHECK(c.step == doctest::Approx(1.0));
+  CHECK(std::find(c.colliding.begin(), c.colliding.end(), moving) != c.colliding.end());
+  // Within a shorter horizon nothing collides.
+  const CollisionStep short_step = max_collision_free_step(patch, uv, dir, 0.5);
+  CHECK_FALSE(short_step.limited);
+  CHECK(short_step.step == 0.5);
+  // Moved past the contact, the boundary is no longer simple.
+  uv[moving] += 1.5 * dir[moving];
+  CHECK_FALSE(boundary_is_simple(patch, uv));
 }
