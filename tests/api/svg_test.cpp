@@ -1,0 +1,208 @@
+// render_uv_svg: the document is read back as XML-ish text (elements, attributes, numbers)
+// and its geometry compared with the layout it came from.
+#include "api/svg.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using seam::api::render_uv_svg;
+using seam::api::UvLayout;
+
+struct Element {
+  std::string name;
+  std::map<std::string, std::string> attributes;
+};
+
+// Every start tag of the document with its attributes; checks that tags are balanced
+// (a stack of open elements, self-closing ones popped at once) and attribute values quoted.
+std::vector<Element> parse_tags(const std::string& doc) {
+  std::vector<Element> out;
+  std::vector<std::string> open;
+  std::size_t at = 0;
+  while ((at = doc.find('<', at)) != std::string::npos) {
+    const auto end = doc.find('>', at);
+    REQUIRE(end != std::string::npos);
+    std::string tag = doc.substr(at + 1, end - at - 1);
+    at = end + 1;
+    if (tag.starts_with("?")) continue;
+    if (tag.starts_with("/")) {
+      REQUIRE_FALSE(open.empty());
+      CHECK(open.back() == tag.substr(1));
+      open.pop_back();
+      continue;
+    }
+    const bool self_closing = tag.ends_with("/");
+    if (self_closing) tag.pop_back();
+    Element e;
+    std::size_t i = tag.find_first_of(" \n");
+    e.name = tag.substr(0, i);
+    while (i != std::string::npos && i < tag.size()) {
+      const auto eq = tag.find('=', i);
+      if (eq == std::string::npos) break;
+      const std::string key = tag.substr(tag.find_first_not_of(" \n", i), eq - tag.find_first_not_of(" \n", i));
+      REQUIRE(tag[eq + 1] == '"');
+      const auto close = tag.find('"', eq + 2);
+      REQUIRE(close != std::string::npos);
+      e.attributes[key] = tag.substr(eq + 2, close - eq - 2);
+      i = close + 1;
+    }
+    if (!self_closing) open.push_back(e.name);
+    out.push_back(std::move(e));
+  }
+  CHECK(open.empty());
+  return out;
+}
+
+std::vector<double> numbers(const std::string& text) {
+  std::string s = text;
+  for (char& c : s) {
+    if (c == ',' || c == 'M' || c == 'L') c = ' ';
+  }
+  std::istringstream in(s);
+  std::vector<double> out;
+  double x = 0;
+  while (in >> x) out.push_back(x);
+  return out;
+}
+
+std::vector<Element> named(const std::vector<Element>& all, const std::string& name) {
+  std::vector<Element> out;
+  for (const auto& e : all) {
+    if (e.name == name) out.push_back(e);
+  }
+  return out;
+}
+
+// Two charts: a unit quad of two triangles on the left, one triangle on the right whose
+// vertices are its own (as a cut leaves them). The seam runs along the quad's right side.
+UvLayout two_charts() {
+  return UvLayout{.name = "duck <body> & \"wing\"",
+                  .uv = {{0.0, 0.0}, {0.5, 0.0}, {0.5, 1.0}, {0.0, 1.0}, {0.6, 0.0}, {1.0, 0.0}, {0.6, 0.5}},
+                  .triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}},
+                  .seam_edges = {{1, 2}, {4, 6}}};
+}
+
+}  // namespace
+
+TEST_CASE("svg: one polygon per triangle at the layout's coordinates, v flipped") {
+  const auto svg = render_uv_svg({two_charts()}, {.size_px = 100});
+  REQUIRE(svg.ok());
+  const auto tags = parse_tags(svg.value());
+  const auto polygons = named(tags, "polygon");
+  REQUIRE(polygons.size() == 3);
+  const auto layout = two_charts();
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    const auto xy = numbers(polygons[f].attributes.at("points"));
+    REQUIRE(xy.size() == 6);
+    for (int k = 0; k < 3; ++k) {
+      const auto& uv = layout.uv[layout.triangles[f][k]];
+      CHECK(xy[2 * k] == doctest::Approx(uv[0] * 100));
+      CHECK(xy[2 * k + 1] == doctest::Approx((1 - uv[1]) * 100));
+    }
+  }
+}
+
+TEST_CASE("svg: charts get their own colours; triangles of one chart share theirs") {
+  const auto svg = render_uv_svg({two_charts()});
+  REQUIRE(svg.ok());
+  const auto polygons = named(parse_tags(svg.value()), "polygon");
+  REQUIRE(polygons.size() == 3);
+  CHECK(polygons[0].attributes.at("fill") == polygons[1].attributes.at("fill"));
+  CHECK(polygons[0].attributes.at("fill") != polygons[2].attributes.at("fill"));
+}
+
+TEST_CASE("svg: seam edges are segments between their UV points") {
+  const auto svg = render_uv_svg({two_charts()}, {.size_px = 10});
+  REQUIRE(svg.ok());
+  const auto paths = named(parse_tags(svg.value()), "path");
+  REQUIRE(paths.size() == 1);
+  CHECK(paths[0].attributes.at("class") == "seam");
+  const auto& d = paths[0].attributes.at("d");
+  CHECK(std::count(d.begin(), d.end(), 'M') == 2);
+  CHECK(numbers(d) == std::vector<double>{5, 10, 5, 0, 6, 10, 6, 5});
+}
+
+TEST_CASE("svg: the unit square, a viewBox that covers it and every UV, escaped names") {
+  UvLayout outside = two_charts();
+  outside.uv[5] = {1.5, -0.25};  // beyond [0,1]²: the view must still show it
+  const auto svg = render_uv_svg({outside}, {.size_px = 100});
+  REQUIRE(svg.ok());
+  const auto tags = parse_tags(svg.value());
+  const auto root = named(tags, "svg");
+  REQUIRE(root.size() == 1);
+  CHECK(root[0].attributes.at("xmlns") == "http://www.w3.org/2000/svg");
+  const auto box = numbers(root[0].attributes.at("viewBox"));
+  REQUIRE(box.size() == 4);
+  // x from 0 to 150, y from 0 (v = 1) to 125 (v = -0.25), 2 units of margin.
+  CHECK(box[0] == doctest::Approx(-2));
+  CHECK(box[1] == doctest::Approx(-2));
+  CHECK(box[2] == doctest::Approx(154));
+  CHECK(box[3] == doctest::Approx(129));
+  const auto rects = named(tags, "rect");
+  REQUIRE(rects.size() == 1);
+  CHECK(rects[0].attributes.at("width") == "100");
+  CHECK(rects[0].attributes.at("height") == "100");
+  CHECK(svg.value().find("<title>duck &lt;body&gt; &amp; &quot;wing&quot;</title>") != std::string::npos);
+  CHECK(svg.value().find("<body>") == std::string::npos);
+}
+
+TEST_CASE("svg: one group per primitive") {
+  UvLayout second = two_charts();
+  second.name = "second";
+  const auto svg = render_uv_svg({two_charts(), second});
+  REQUIRE(svg.ok());
+  const auto tags = parse_tags(svg.value());
+  CHECK(named(tags, "g").size() == 2);
+  CHECK(named(tags, "polygon").size() == 6);
+  CHECK(named(tags, "title").size() == 2);
+}
+
+TEST_CASE("svg: an empty list is the unit square alone") {
+  const auto svg = render_uv_svg({});
+  REQUIRE(svg.ok());
+  const auto tags = parse_tags(svg.value());
+  CHECK(named(tags, "polygon").empty());
+  CHECK(named(tags, "rect").size() == 1);
+}
+
+TEST_CASE("svg: indices out of range and non-finite UVs are the pipeline's bug (internal)") {
+  UvLayout bad_triangle = two_charts();
+  bad_triangle.triangles[2][1] = 7;
+  auto svg = render_uv_svg({two_charts(), bad_triangle});
+  REQUIRE_FALSE(svg.ok());
+  CHECK(svg.error().code == seam::api::ApiErrorCode::kInternal);
+  CHECK(svg.error().message.find("UV layout 1: triangle 2 names UV 7 of 7") != std::string::npos);
+
+  UvLayout bad_seam = two_charts();
+  bad_seam.seam_edges[0][0] = 70;
+  svg = render_uv_svg({bad_seam});
+  REQUIRE_FALSE(svg.ok());
+  CHECK(svg.error().message.find("seam edge 0") != std::string::npos);
+
+  UvLayout nan = two_charts();
+  nan.uv[3][1] = std::nan("");
+  svg = render_uv_svg({nan});
+  REQUIRE_FALSE(svg.ok());
+  CHECK(svg.error().message.find("UV 3 is not finite") != std::string::npos);
+
+  svg = render_uv_svg({two_charts()}, {.size_px = 0});
+  REQUIRE_FALSE(svg.ok());
+  CHECK(svg.error().code == seam::api::ApiErrorCode::kInvalidParameter);
+}
+
+TEST_CASE("xml_escape: markup characters, control bytes and invalid UTF-8") {
+  using seam::api::xml_escape;
+  CHECK(xml_escape("a<b>&'\"") == "a&lt;b&gt;&amp;&apos;&quot;");
+  CHECK(xml_escape("caf\xC3\xA9 \xE2\x82\xAC") == "caf\xC3\xA9 \xE2\x82\xAC");  // kept
+  CHECK(xml_escape(std::string("x\x01y", 3)) == "x\xEF\xBF\xBDy");
+  CHECK(xml_escape("\xFF\xC3") == "\xEF\xBF\xBD\xEF\xBF\xBD");
+  CHECK(xml_escape("\xED\xA0\x80") == "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");  // a UTF-16 surrogate
+}
