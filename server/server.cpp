@@ -5,8 +5,10 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
 #include <future>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <set>
 #include <thread>
@@ -14,6 +16,9 @@
 
 #include "server/request.h"
 #include "server/worker_pool.h"
+
+#include "api/sample_mesh.h"
+#include "server/web_assets.h"
 
 #include "server/http_front.h"
 #include "server/http_request.h"
@@ -31,10 +36,18 @@ using api::make_api_error;
 constexpr const char* kRequestIdHeader = "X-Request-Id";
 constexpr const char* kJsonType = "application/json";
 constexpr const char* kGlbType = "model/gltf-binary";
+constexpr const char* kSvgType = "image/svg+xml";
+
+// The viewer talks to this server only: scripts, styles, fetches and images from 'self'
+// (blob: and data: for the GLBs it parses and the textures it makes), nothing from elsewhere.
+constexpr const char* kPagePolicy =
+    "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data: blob:; "
+    "connect-src 'self' data: blob:; base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
 
 // Fixed route labels keep metric cardinality bounded whatever paths clients probe.
 std::string route_label(const std::string& path) {
-  for (const char* r : {"/seam", "/healthz", "/readyz", "/metrics", "/version"}) {
+  for (const char* r : {"/seam", "/healthz", "/readyz", "/metrics", "/version", "/", "/viewer.js", "/viewer.css",
+                        "/openapi.json", "/sample.glb"}) {
     if (path == r) return r;
   }
   return "other";
@@ -47,6 +60,44 @@ bool acceptable_request_id(const std::string& id) {
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' || c == ':')) return false;
   }
   return true;
+}
+
+// Accept names image/svg+xml with q > 0 (the SVG UV layout instead of JSON).
+bool accepts_svg(std::string_view accept) {
+  std::size_t start = 0;
+  while (start <= accept.size()) {
+    const auto comma = accept.find(',', start);
+    const auto item = accept.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    if (media_type(item) == kSvgType) {
+      const auto q = item.find("q=");
+      if (q == std::string_view::npos) return true;
+      return std::strtod(std::string(item.substr(q + 2)).c_str(), nullptr) > 0.0;
+    }
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return false;
+}
+
+// output "svg" arrives with the params of contract v2 (OutputFormat::kSvg and
+// PipelineOutput::svg); until the pipeline has them, Accept: image/svg+xml changes nothing
+// and no SVG is sent. Templates, so that the check compiles either way.
+template <class Format = api::OutputFormat>
+bool select_svg(Format& output) {
+  if constexpr (requires { Format::kSvg; }) {
+    output = Format::kSvg;
+    return true;
+  }
+  return false;
+}
+
+// The SVG to send: the pipeline's, when the request asked for output "svg".
+template <class Output = api::PipelineOutput, class Format = api::OutputFormat>
+const std::string* svg_of([[maybe_unused]] const Output& output, [[maybe_unused]] Format format) {
+  if constexpr (requires { output.svg; Format::kSvg; }) {
+    if (format == Format::kSvg) return &output.svg;
+  }
+  return nullptr;
 }
 
 double ms_between(Clock::time_point a, Clock::time_point b) {
@@ -136,6 +187,9 @@ struct Server::Impl {
 
   std::mutex rng_mutex;
   std::mt19937_64 rng;
+
+  std::once_flag sample_once;
+  std::optional<api::ApiResult<std::string>> sample_glb;
 
   std::mutex records_mutex;
   std::unordered_map<const httplib::Request*, RequestRecord> records;
@@ -238,7 +292,9 @@ struct Server::Impl {
     if (request.asset.empty()) {
       return send_error(req, res, make_api_error(ApiErrorCode::kMalformedRequest, "the request carries no asset bytes"));
     }
-    if (accepts_glb(req.get_header_value("Accept"))) request.params.output = api::OutputFormat::kGlb;
+    const auto accept = req.get_header_value("Accept");
+    if (accepts_glb(accept)) request.params.output = api::OutputFormat::kGlb;
+    else if (accepts_svg(accept)) select_svg(request.params.output);
     if (draining) {
       res.set_header("Retry-After", std::to_string(config.retry_after_s));
       return send_error(req, res, make_api_error(ApiErrorCode::kQueueFull, "the server is shutting down; retry on another replica"));
@@ -316,7 +372,10 @@ struct Server::Impl {
       return send_error(req, res, error);
     }
     auto& output = result.value();
-    if (state->params.output == api::OutputFormat::kGlb) {
+    if (const std::string* svg = svg_of(output, state->params.output)) {
+      res.status = 200;
+      res.set_content(*svg, kSvgType);
+    } else if (state->params.output == api::OutputFormat::kGlb) {
       res.status = 200;
       res.body = std::move(output.glb);
       res.set_header("Content-Type", kGlbType);
@@ -487,6 +546,38 @@ struct Server::Impl {
       res.set_content(version_info().dump(), kJsonType);
     });
     for (const char* path : {"/healthz", "/readyz", "/metrics", "/version"}) method_not_allowed(path, "GET, HEAD");
+    add_web_routes();
+  }
+
+  // GET /, its script and stylesheet, /openapi.json (embedded at build time) and the sample.
+  void add_web_routes() {
+    for (const WebAsset& asset : web_asset_table()) {
+      // Route patterns are regular expressions: the dots are literal.
+      std::string path;
+      for (const char c : asset.path) path += c == '.' ? std::string("\\.") : std::string(1, c);
+      http.Get(path, [&asset](const httplib::Request&, httplib::Response& res) {
+        std::string type(asset.content_type);
+        if (type.starts_with("text/")) type += "; charset=utf-8";
+        res.set_content(asset.body.data(), asset.body.size(), type);
+        res.set_header("X-Content-Type-Options", "nosniff");
+        res.set_header("Cache-Control", "no-cache");
+        if (asset.content_type == "text/html") res.set_header("Content-Security-Policy", kPagePolicy);
+      });
+      method_not_allowed(path, "GET, HEAD");
+    }
+    http.Get("/sample\\.glb", [this](const httplib::Request& req, httplib::Response& res) {
+      const auto& glb = sample();
+      if (!glb.ok()) return send_error(req, res, glb.error());
+      res.set_content(glb.value(), kGlbType);
+      res.set_header("Content-Disposition", "attachment; filename=\"sample.glb\"");
+    });
+    method_not_allowed("/sample\\.glb", "GET, HEAD");
+  }
+
+  // The bundled sample (api/sample_mesh.h), made once on first use: it is deterministic.
+  const api::ApiResult<std::string>& sample() {
+    std::call_once(sample_once, [this] { sample_glb.emplace(api::sample_glb()); });
+    return *sample_glb;
   }
 
   void add_probes(FrontServer& server) {
