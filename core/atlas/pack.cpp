@@ -1,0 +1,412 @@
+#include "core/atlas/pack.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <string>
+
+namespace seam::core {
+
+namespace {
+
+double cross2(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+Vec2 rotate(const Vec2& p, double angle) {
+  const double c = std::cos(angle);
+  const double s = std::sin(angle);
+  return Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y());
+}
+
+// A skyline: segments sorted by x covering [0, width), each at height y.
+struct Segment {
+  double x;
+  double y;
+  double w;
+};
+
+class Skyline {
+ public:
+  Skyline(double width, double height) : width_(width), height_(height) { segments_.push_back({0, 0, width}); }
+
+  // Bottom-left position for a w x h rectangle: lowest top, then leftmost. False if none fits.
+  bool find(double w, double h, Vec2& pos, double& top) const {
+    bool found = false;
+    for (std::size_t i = 0; i < segments_.size(); ++i) {
+      const double x = segments_[i].x;
+      if (x + w > width_ * (1 + 1e-12)) break;
+      double y = 0;
+      for (std::size_t j = i; j < segments_.size() && segments_[j].x < x + w; ++j) y = std::max(y, segments_[j].y);
+      if (y + h > height_ * (1 + 1e-12)) continue;
+      if (!found || y + h < top || (y + h == top && x < pos.x())) {
+        found = true;
+        top = y + h;
+        pos = Vec2(x, y);
+      }
+    }
+    return found;
+  }
+
+  void add(const Vec2& pos, double w, double h) {
+    const double x0 = pos.x();
+    const double x1 = pos.x() + w;
+    std::vector<Segment> out;
+    out.reserve(segments_.size() + 2);
+    bool inserted = false;
+    for (const Segment& s : segments_) {
+      const double s1 = s.x + s.w;
+      if (s1 <= x0 || s.x >= x1) {
+        if (!inserted && s.x >= x1) {
+          out.push_back({x0, pos.y() + h, w});
+          inserted = true;
+        }
+        out.push_back(s);
+        continue;
+      }
+      if (s.x < x0) out.push_back({s.x, s.y, x0 - s.x});
+      if (!inserted) {
+        out.push_back({x0, pos.y() + h, w});
+        inserted = true;
+      }
+      if (s1 > x1) out.push_back({x1, s.y, s1 - x1});
+    }
+    if (!inserted) out.push_back({x0, pos.y() + h, w});
+    // Merge neighbours at one height.
+    segments_.clear();
+    for (const Segment& s : out) {
+      if (!segments_.empty() && segments_.back().y == s.y) {
+        segments_.back().w = s.x + s.w - segments_.back().x;
+      } else {
+        segments_.push_back(s);
+      }
+    }
+  }
+
+ private:
+  double width_;
+  double height_;
+  std::vector<Segment> segments_;
+};
+
+struct Slot {
+  Vec2 pos = Vec2::Zero();
+  bool turned = false;
+};
+
+// Packs rectangles (sizes at unit density) into an L x L square with margins of
+// margin_fraction * L; false if they do not all fit.
+bool pack_square(const std::vector<Vec2>& sizes, const std::vector<std::size_t>& order, double side,
+                 double margin_fraction, bool rotate, std::vector<Slot>& slots) {
+  const double m = margin_fraction * side;
+  Skyline sky(side, side);
+  slots.assign(sizes.size(), Slot{});
+  for (std::size_t idx : order) {
+    const double w = sizes[idx].x() + m;
+    const double h = sizes[idx].y() + m;
+    Vec2 pos;
+    double top = 0;
+    bool found = sky.find(w, h, pos, top);
+    bool turned = false;
+    if (rotate && w != h) {
+      Vec2 pos90;
+      double top90 = 0;
+      if (sky.find(h, w, pos90, top90) && (!found || top90 < top)) {
+        found = true;
+        pos = pos90;
+        turned = true;
+      }
+    }
+    if (!found) return false;
+    sky.add(pos, turned ? h : w, turned ? w : h);
+    slots[idx] = {pos, turned};
+  }
+  return true;
+}
+
+// The smallest square side (by bisection) that the order packs into, and its slots.
+double smallest_square(const std::vector<Vec2>& sizes, const std::vector<std::size_t>& order,
+                       double margin_fraction, bool rotate, std::vector<Slot>& slots) {
+  double area = 0;
+  double longest = 0;
+  for (const Vec2& s : sizes) {
+    area += s.x() * s.y();
+    longest = std::max(longest, s.maxCoeff());  // a square fits a rectangle only by its long side
+  }
+  double lo = std::max(std::sqrt(area), longest);
+  double hi = lo;
+  std::vector<Slot> trial;
+  int grow = 0;
+  while (!pack_square(sizes, order, hi, margin_fraction, rotate, trial) && grow < 200) {
+    hi *= 1.1;
+    ++grow;
+  }
+  slots = trial;
+  for (int it = 0; it < 24 && hi - lo > 1e-4 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (pack_square(sizes, order, mid, margin_fraction, rotate, trial)) {
+      hi = mid;
+      slots = trial;
+    } else {
+      lo = mid;
+    }
+  }
+  return hi;
+}
+
+Status validate(std::span<const PackChart> charts, const PackOptions& options) {
+  if (options.texture_size < 16 || options.texture_size > 65536) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "pack: texture_size must be in 16..65536, got " + std::to_string(options.texture_size));
+  }
+  if (!(options.margin_px >= 0 && options.margin_px <= options.texture_size / 8.0)) {
+    return make_error(ErrorCode::kInvalidArgument, "pack: margin_px must be in 0..texture_size/8");
+  }
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const PackChart& chart = charts[c];
+    const std::string name = "pack: chart " + std::to_string(c);
+    if (chart.triangles.empty()) return make_error(ErrorCode::kInvalidArgument, name + " has no triangles");
+    if (!(chart.surface_area > 0) || !std::isfinite(chart.surface_area)) {
+      return make_error(ErrorCode::kInvalidArgument, name + " has surface_area " + std::to_string(chart.surface_area));
+    }
+    for (const Vec2& p : chart.uv) {
+      if (!p.allFinite()) return make_error(ErrorCode::kNonFinitePosition, name + " has a non-finite UV");
+    }
+    for (const Triangle& t : chart.triangles) {
+      for (std::uint32_t v : t) {
+        if (v >= chart.uv.size()) {
+          return make_error(ErrorCode::kIndexOutOfRange,
+                            name + " names UV " + std::to_string(v) + " of " + std::to_string(chart.uv.size()));
+        }
+      }
+    }
+  }
+  return Ok{};
+}
+
+double uv_area(const PackChart& chart) {
+  double area = 0;
+  for (const Triangle& t : chart.triangles) area += 0.5 * std::abs(cross2(chart.uv[t[0]], chart.uv[t[1]], chart.uv[t[2]]));
+  return area;
+}
+
+// The rotation of a hull that minimises its longer bounding side (a long strip fits a smaller
+// square diagonally), searched over half a turn in 0.5 degree steps, then made wider than tall.
+MinAreaRect min_square_rect(std::span<const Vec2> hull) {
+  MinAreaRect best;
+  double best_side = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 360; ++k) {
+    const double angle = std::numbers::pi * k / 360;
+    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+    Vec2 hi = -lo;
+    for (const Vec2& p : hull) {
+      const Vec2 q = rotate(p, angle);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    const Vec2 size = hi - lo;
+    if (size.maxCoeff() < best_side * (1 - 1e-12)) {
+      best_side = size.maxCoeff();
+      best = {angle, size, lo};
+    }
+  }
+  if (best.size.y() > best.size.x()) {
+    best.angle -= 0.5 * std::numbers::pi;
+    best.min = Vec2(best.min.y(), -(best.min.x() + best.size.x()));
+    best.size = Vec2(best.size.y(), best.size.x());
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<Vec2> convex_hull(std::span<const Vec2> points) {
+  std::vector<Vec2> p(points.begin(), points.end());
+  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+    return a.y() < b.y() || (a.y() == b.y() && a.x() < b.x());
+  });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  // Monotone chain over y (lowest-then-leftmost first): right chain up, left chain down.
+  std::vector<Vec2> hull(2 * p.size());
+  std::size_t k = 0;
+  for (const Vec2& q : p) {
+    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], q) <= 0) --k;
+    hull[k++] = q;
+  }
+  const std::size_t lower = k + 1;
+  for (std::size_t i = p.size() - 1; i-- > 0;) {
+    while (k >= lower && cross2(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+    hull[k++] = p[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+MinAreaRect min_area_rect(std::span<const Vec2> hull) {
+  MinAreaRect best;
+  if (hull.empty()) return best;
+  double best_area = std::numeric_limits<double>::infinity();
+  const std::size_t h = hull.size();
+  for (std::size_t i = 0; i < std::max<std::size_t>(h, 1); ++i) {
+    const Vec2 e = hull[(i + 1) % h] - hull[i];
+    const double angle = h > 1 && e.norm() > 0 ? -std::atan2(e.y(), e.x()) : 0.0;
+    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+    Vec2 hi = -lo;
+    for (const Vec2& p : hull) {
+      const Vec2 q = rotate(p, angle);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    const Vec2 size = hi - lo;
+    const double area = size.x() * size.y();
+    if (area < best_area * (1 - 1e-12)) {
+      best_area = area;
+      best = {angle, size, lo};
+    }
+  }
+  if (best.size.y() > best.size.x()) {
+    // Turn a quarter so the rectangle is wider than tall: (x, y) -> (y, -x).
+    best.angle -= 0.5 * std::numbers::pi;
+    best.min = Vec2(best.min.y(), -(best.min.x() + best.size.x()));
+    best.size = Vec2(best.size.y(), best.size.x());
+  }
+  return best;
+}
+
+Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options, const CancelToken& cancel) {
+  const auto start = std::chrono::steady_clock::now();
+  if (Status valid = validate(charts, options); !valid.ok()) return valid.take_error();
+  const std::size_t n = charts.size();
+  PackResult result;
+  result.placements.resize(n);
+  if (n == 0) return result;
+
+  // Unit density: UV area = surface area, so texels per 3D length are equal for all charts.
+  std::vector<double> scale(n);
+  std::vector<MinAreaRect> rect(n);
+  std::vector<Vec2> sizes(n);
+  std::vector<std::vector<Vec2>> hulls(n);
+  double total_area = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    if (cancel.is_cancelled()) return cancelled_error("pack");
+    const double area = uv_area(charts[c]);
+    if (!(area > 0)) {
+      return make_error(ErrorCode::kInvalidArgument, "pack: chart " + std::to_string(c) + " has zero UV area");
+    }
+    scale[c] = std::sqrt(charts[c].surface_area / area);
+    total_area += charts[c].surface_area;
+    std::vector<Vec2> used;
+    used.reserve(charts[c].triangles.size() * 3);
+    for (const Triangle& t : charts[c].triangles) {
+      for (std::uint32_t v : t) used.push_back(scale[c] * charts[c].uv[v]);
+    }
+    hulls[c] = convex_hull(used);
+    const std::vector<Vec2>& hull = hulls[c];
+    if (options.rotate) {
+      rect[c] = min_area_rect(hull);
+    } else {
+      Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+      Vec2 hi = -lo;
+      for (const Vec2& p : hull) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      rect[c] = {0.0, hi - lo, lo};
+    }
+    sizes[c] = rect[c].size;
+  }
+
+  // Charts never touch, even with margin_px = 0 (a millionth of the atlas side between them),
+  // so that rounding cannot make neighbours overlap.
+  const double margin_fraction = std::max(options.margin_px / options.texture_size, 1e-6);
+  std::vector<std::size_t> base(n);
+  std::iota(base.begin(), base.end(), std::size_t{0});
+  double side = std::numeric_limits<double>::infinity();
+  std::vector<Slot> slots;
+  auto pack_all = [&](const std::vector<Vec2>& candidate_sizes) {
+    auto by = [&](auto key) {
+      std::vector<std::size_t> order = base;
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) > key(b); });
+      return order;
+    };
+    // A few deterministic orders; the smallest square wins.
+    const std::vector<std::size_t> orders[] = {
+        by([&](std::size_t c) { return candidate_sizes[c].y(); }),
+        by([&](std::size_t c) { return candidate_sizes[c].x() * candidate_sizes[c].y(); }),
+        by([&](std::size_t c) { return candidate_sizes[c].x(); }),
+    };
+    bool improved = false;
+    for (const auto& order : orders) {
+      std::vector<Slot> trial;
+      const double s = smallest_square(candidate_sizes, order, margin_fraction, options.rotate, trial);
+      if (s < side) {
+        side = s;
+        slots = std::move(trial);
+        improved = true;
+      }
+    }
+    return improved;
+  };
+  pack_all(sizes);
+  if (options.rotate) {
+    // Charts longer than the square's side would be at their minimal area: turn those to their
+    // smallest enclosing square instead (a long strip lies diagonally), and keep that if the
+    // square shrinks.
+    std::vector<MinAreaRect> alt = rect;
+    std::vector<Vec2> alt_sizes = sizes;
+    bool any = false;
+    for (std::size_t c = 0; c < n; ++c) {
+      if (sizes[c].x() > 0.5 * side) {
+        alt[c] = min_square_rect(hulls[c]);
+        alt_sizes[c] = alt[c].size;
+        any = true;
+      }
+    }
+    if (cancel.is_cancelled()) return cancelled_error("pack");
+    if (any && pack_all(alt_sizes)) {
+      rect = std::move(alt);
+      sizes = std::move(alt_sizes);
+    }
+  }
+
+  const double m = margin_fraction * side;
+  const double inv = 1.0 / side;
+  double min_density = std::numeric_limits<double>::infinity();
+  double max_density = 0;
+  double rect_area = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    const Slot& slot = slots[c];
+    const Vec2 corner = slot.pos + Vec2::Constant(0.5 * m);
+    ChartPlacement& p = result.placements[c];
+    // q = Rot(angle) (scale uv) - rect.min lies in [0, size]; turned: (x, y) -> (size.y - y, x).
+    Vec2 shift = -rect[c].min;
+    double angle = rect[c].angle;
+    Vec2 extent = rect[c].size;
+    if (slot.turned) {
+      angle += 0.5 * std::numbers::pi;
+      shift = Vec2(rect[c].size.y() + rect[c].min.y(), -rect[c].min.x());
+      extent = Vec2(rect[c].size.y(), rect[c].size.x());
+    }
+    p.scale = scale[c] * inv;
+    p.angle = angle;
+    p.offset = (shift + corner) * inv;
+    p.rect_min = corner * inv;
+    p.rect_max = (corner + extent) * inv;
+    rect_area += extent.x() * extent.y();
+    const double density = options.texture_size * p.scale * std::sqrt(uv_area(charts[c]) / charts[c].surface_area);
+    min_density = std::min(min_density, density);
+    max_density = std::max(max_density, density);
+  }
+  result.coverage = total_area * inv * inv;
+  result.rect_fill = rect_area > 0 ? total_area / rect_area : 0;
+  result.texel_density = max_density;
+  result.density_ratio = max_density / min_density;
+  result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,90 @@
+// Packing charts into one [0,1]^2 atlas at one texel density (issue 12, "An atlas, not only
+// charts"): scale, rotate to the minimal-area bounding rectangle, skyline-pack with margins.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/mesh/types.h"
+
+namespace seam::core {
+
+/// One chart to pack: its UVs at any scale and orientation (e.g. a chart of parameterize's
+/// output, or SLIM's map at 3D scale), its triangles (indices into uv), and its 3D surface area.
+struct PackChart {
+  std::span<const Vec2> uv;
+  std::span<const Triangle> triangles;
+  double surface_area = 0;  ///< > 0, in the mesh's squared length unit
+};
+
+struct PackOptions {
+  /// Texture side in texels, 16..65536: margins are whole texels at this size.
+  int texture_size = 1024;
+  /// Gap between any two charts' bounding rectangles, in texels (0..texture_size/8); the
+  /// rectangles also keep margin_px/2 from the atlas border, so tiling keeps margin_px too.
+  double margin_px = 4;
+  /// Rotate charts to their minimal-area bounding rectangle, and by 90 degrees where that packs
+  /// better. Without it charts keep their orientation (axis-aligned bounding boxes).
+  bool rotate = true;
+};
+
+/// uv' = scale * Rot(angle) * uv + offset: a similarity (no reflection) taking a chart's input
+/// UVs into the atlas.
+struct ChartPlacement {
+  double scale = 1;
+  double angle = 0;  ///< radians, counter-clockwise
+  Vec2 offset = Vec2::Zero();
+  Vec2 rect_min = Vec2::Zero();  ///< the chart's bounding rectangle in the atlas (axis-aligned)
+  Vec2 rect_max = Vec2::Zero();
+  Vec2 apply(const Vec2& uv) const {
+    const double c = std::cos(angle);
+    const double s = std::sin(angle);
+    return scale * Vec2(c * uv.x() - s * uv.y(), s * uv.x() + c * uv.y()) + offset;
+  }
+};
+
+struct PackResult {
+  std::vector<ChartPlacement> placements;  ///< one per input chart, in input order
+  double coverage = 0;       ///< total chart UV area in the atlas / atlas area (1)
+  double rect_fill = 0;      ///< total chart UV area / total bounding-rectangle area
+  /// Texels per unit of 3D length (texture_size * sqrt(UV area / surface area)), equal for all
+  /// charts; density_ratio is max/min of the per-chart values as placed (1 up to rounding).
+  double texel_density = 0;
+  double density_ratio = 1;
+  double ms = 0;             ///< wall time
+};
+
+/// Packs `charts` into [0,1]^2. Each chart is scaled so UV area / surface area is the same for
+/// all (one texel density), rotated (options.rotate) so that the minimal-area rectangle around
+/// its convex hull (rotating calipers over the hull's edge directions, Freeman & Shapira 1975)
+/// is axis-aligned and wider than tall, then the rectangles grown by the margin are packed by a
+/// skyline bottom-left heuristic (each tried upright and turned 90 degrees with rotate; largest
+/// first) into the smallest square found by bisection on its side; the square becomes [0,1]^2.
+/// Deterministic (ties by input order). Charts do not overlap each other: their rectangles are
+/// disjoint and margin_px apart at texture_size.
+/// Errors: kInvalidArgument (options out of range, a chart with no triangles, non-positive or
+/// non-finite surface_area, or zero UV area; the message names the chart), kIndexOutOfRange
+/// (a triangle names a missing UV), kNonFinitePosition (a UV is NaN or infinite), kCancelled.
+/// Complexity: O(sum of H_i^2) for the rectangles (H_i hull sizes), plus about 40 packing
+/// passes of O(n * S) each (S skyline segments, at most n + 1): O(n^2) worst, milliseconds for
+/// 1,000 charts.
+Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options = {},
+                               const CancelToken& cancel = CancelToken::none());
+
+/// The convex hull of `points` (Andrew's monotone chain), counter-clockwise, no collinear
+/// points, starting at the lowest-then-leftmost point. O(n log n).
+std::vector<Vec2> convex_hull(std::span<const Vec2> points);
+
+/// The minimal-area rectangle enclosing a convex polygon (counter-clockwise): the angle that
+/// rotates it axis-aligned (one of its sides along a hull edge), its width >= height. O(H^2).
+struct MinAreaRect {
+  double angle = 0;  ///< rotating the points by this angle makes the rectangle axis-aligned
+  Vec2 size = Vec2::Zero();
+  Vec2 min = Vec2::Zero();  ///< lower-left corner after the rotation
+};
+MinAreaRect min_area_rect(std::span<const Vec2> hull);
+
+}  // namespace seam::core

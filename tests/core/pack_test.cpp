@@ -1,0 +1,296 @@
+// Chart packing: the minimal rectangle against a brute-force rotation search, and packed
+// layouts checked from the transformed UVs themselves (rectangles margin_px apart, all in
+// [0,1]^2, no overlap by the exact test and by rasterization, one texel density, coverage
+// equal to the placed area), on generated and on real flattened CGAL charts.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "atlas_test_util.h"
+#include "core/atlas/overlap.h"
+#include "core/atlas/pack.h"
+#include "core/extrema/extrema.h"
+#include "core/mesh/cut.h"
+#include "core/mesh/topology.h"
+#include "core/seam/seam.h"
+#include "core/uv/parameterize.h"
+#include "core/uv/uv_patch.h"
+#include "test_data.h"
+
+using namespace seam::core;
+
+namespace {
+
+struct OwnedChart {
+  std::vector<Vec2> uv;
+  std::vector<Triangle> triangles;
+  double surface_area = 0;
+};
+
+/// An a x b grid chart (2 triangles per cell), rotated by `angle` and shifted, whose surface
+/// area is `density2` times its UV area.
+OwnedChart grid_chart(double a, double b, double angle, const Vec2& shift, double density2, int n = 4) {
+  OwnedChart c;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const Vec2 p(a * i / n, b * j / n);
+      c.uv.push_back(Vec2(std::cos(angle) * p.x() - std::sin(angle) * p.y(),
+                          std::sin(angle) * p.x() + std::cos(angle) * p.y()) + shift);
+    }
+  }
+  auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      c.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      c.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  c.surface_area = density2 * a * b;
+  return c;
+}
+
+double area_of(std::span<const Vec2> uv, std::span<const Triangle> tris) {
+  double a = 0;
+  for (const Triangle& t : tris) {
+    const Vec2 e1 = uv[t[1]] - uv[t[0]];
+    const Vec2 e2 = uv[t[2]] - uv[t[0]];
+    a += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+  }
+  return a;
+}
+
+std::vector<PackChart> views(const std::vector<OwnedChart>& charts) {
+  std::vector<PackChart> v;
+  for (const OwnedChart& c : charts) v.push_back({c.uv, c.triangles, c.surface_area});
+  return v;
+}
+
+/// Checks a packed layout from the placed UVs alone; returns the placed coverage.
+double check_packed(const std::vector<OwnedChart>& charts, const PackResult& r, const PackOptions& o) {
+  REQUIRE(r.placements.size() == charts.size());
+  const double texel = 1.0 / o.texture_size;
+  std::vector<Vec2> all_uv;
+  std::vector<Triangle> all_tris;
+  std::vector<std::uint32_t> chart_of;
+  std::vector<std::pair<Vec2, Vec2>> boxes;
+  double placed_area = 0;
+  double min_density = 1e300;
+  double max_density = 0;
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const auto base = static_cast<std::uint32_t>(all_uv.size());
+    Vec2 lo(1e300, 1e300);
+    Vec2 hi(-1e300, -1e300);
+    std::vector<Vec2> placed;
+    for (const Vec2& p : charts[c].uv) {
+      const Vec2 q = r.placements[c].apply(p);
+      placed.push_back(q);
+      all_uv.push_back(q);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    for (const Triangle& t : charts[c].triangles) {
+      all_tris.push_back({base + t[0], base + t[1], base + t[2]});
+      chart_of.push_back(static_cast<std::uint32_t>(c));
+    }
+    // The chart lies in its reported rectangle, which keeps margin/2 from the border.
+    CHECK(lo.x() >= r.placements[c].rect_min.x() - 1e-9);
+    CHECK(hi.y() <= r.placements[c].rect_max.y() + 1e-9);
+    CHECK(lo.minCoeff() >= 0.5 * o.margin_px * texel - 1e-9);
+    CHECK(hi.maxCoeff() <= 1 - 0.5 * o.margin_px * texel + 1e-9);
+    boxes.emplace_back(lo, hi);
+    const double a = area_of(placed, charts[c].triangles);
+    placed_area += a;
+    const double density = std::sqrt(a / charts[c].surface_area);
+    min_density = std::min(min_density, density);
+    max_density = std::max(max_density, density);
+  }
+  // Margins: the bounding boxes of any two placed charts are margin_px texels apart along x or y.
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+      const double gap_x = std::max(boxes[j].first.x() - boxes[i].second.x(), boxes[i].first.x() - boxes[j].second.x());
+      const double gap_y = std::max(boxes[j].first.y() - boxes[i].second.y(), boxes[i].first.y() - boxes[j].second.y());
+      CAPTURE(i);
+      CAPTURE(j);
+      CHECK(std::max(gap_x, gap_y) >= o.margin_px * texel * (1 - 1e-6));
+    }
+  }
+  CHECK(max_density / min_density == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(r.density_ratio == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(r.coverage == doctest::Approx(placed_area).epsilon(1e-9));
+  auto overlap = find_overlaps(all_uv, all_tris, chart_of);
+  REQUIRE(overlap.ok());
+  CHECK(overlap->between_charts_area == 0);
+  return placed_area;
+}
+
+}  // namespace
+
+TEST_CASE("the minimal-area rectangle of a rotated rectangle is the rectangle; of a polygon, no larger than a fine search") {
+  for (double angle : {0.0, 0.3, 1.0, 2.5}) {
+    const OwnedChart c = grid_chart(3, 1, angle, Vec2(5, -2), 1, 1);
+    const std::vector<Vec2> hull = convex_hull(c.uv);
+    CHECK(hull.size() == 4);
+    const MinAreaRect r = min_area_rect(hull);
+    CHECK(r.size.x() == doctest::Approx(3));
+    CHECK(r.size.y() == doctest::Approx(1));
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Vec2> pts;
+    for (int k = 0; k < 40; ++k) pts.emplace_back(3 * u(rng), u(rng) + 0.5 * pts.size() * 0.02);
+    const std::vector<Vec2> hull = convex_hull(pts);
+    // Every point is inside (or on) the counter-clockwise hull.
+    for (const Vec2& p : pts) {
+      for (std::size_t i = 0; i < hull.size(); ++i) {
+        const Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+        const Vec2 d = p - hull[i];
+        CHECK(e.x() * d.y() - e.y() * d.x() >= -1e-12);
+      }
+    }
+    const MinAreaRect r = min_area_rect(hull);
+    CHECK(r.size.x() >= r.size.y());
+    double brute = 1e300;
+    for (int k = 0; k < 3600; ++k) {
+      const double a = std::numbers::pi * k / 3600;
+      Vec2 lo(1e300, 1e300);
+      Vec2 hi(-1e300, -1e300);
+      for (const Vec2& p : pts) {
+        const Vec2 q(std::cos(a) * p.x() - std::sin(a) * p.y(), std::sin(a) * p.x() + std::cos(a) * p.y());
+        lo = lo.cwiseMin(q);
+        hi = hi.cwiseMax(q);
+      }
+      brute = std::min(brute, (hi - lo).prod());
+    }
+    CHECK(r.size.prod() <= brute * (1 + 1e-9));
+    CHECK(r.size.prod() >= brute * (1 - 1e-3));  // the search is fine enough to come close
+    // The rectangle's rotation really encloses the points.
+    for (const Vec2& p : pts) {
+      const Vec2 q(std::cos(r.angle) * p.x() - std::sin(r.angle) * p.y(), std::sin(r.angle) * p.x() + std::cos(r.angle) * p.y());
+      CHECK(q.x() >= r.min.x() - 1e-9);
+      CHECK(q.y() >= r.min.y() - 1e-9);
+      CHECK(q.x() <= r.min.x() + r.size.x() + 1e-9);
+      CHECK(q.y() <= r.min.y() + r.size.y() + 1e-9);
+    }
+  }
+}
+
+TEST_CASE("many random charts: margins hold, all in [0,1]^2, no overlap, one density, deterministic") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> side(0.05, 3);
+  std::uniform_real_distribution<double> angle(0, 2 * std::numbers::pi);
+  std::uniform_real_distribution<double> density(0.2, 5);
+  std::vector<OwnedChart> charts;
+  for (int k = 0; k < 150; ++k) {
+    charts.push_back(grid_chart(side(rng), side(rng), angle(rng), Vec2(side(rng), side(rng)), density(rng), 2));
+  }
+  for (const PackOptions& o : {PackOptions{}, PackOptions{.texture_size = 512, .margin_px = 8, .rotate = false},
+                               PackOptions{.texture_size = 4096, .margin_px = 0}}) {
+    CAPTURE(o.texture_size);
+    auto r = pack_charts(views(charts), o);
+    REQUIRE(r.ok());
+    const double coverage = check_packed(charts, *r, o);
+    // Random rectangles at random angles: kept unrotated, their boxes are about half empty.
+    CHECK(coverage > (o.rotate ? 0.55 : 0.25));
+    auto again = pack_charts(views(charts), o);
+    REQUIRE(again.ok());
+    for (std::size_t c = 0; c < charts.size(); ++c) {
+      CHECK(again->placements[c].offset == r->placements[c].offset);
+      CHECK(again->placements[c].angle == r->placements[c].angle);
+    }
+  }
+  // Rectangles packed tightly: with rotation and no margin, coverage is their fill.
+  auto tight = pack_charts(views(charts), {.margin_px = 0});
+  REQUIRE(tight.ok());
+  CHECK(tight->rect_fill == doctest::Approx(1.0));
+  CHECK(tight->coverage > 0.75);
+}
+
+TEST_CASE("rotation: thin diagonal strips pack far better turned to their minimal rectangles") {
+  std::vector<OwnedChart> strips;
+  for (int k = 0; k < 12; ++k) strips.push_back(grid_chart(10, 0.5, 0.3 + 0.1 * k, Vec2(k, 0), 1));
+  auto turned = pack_charts(views(strips), {});
+  auto kept = pack_charts(views(strips), {.rotate = false});
+  REQUIRE(turned.ok());
+  REQUIRE(kept.ok());
+  check_packed(strips, *turned, {});
+  check_packed(strips, *kept, {.rotate = false});
+  CHECK(turned->coverage > 2 * kept->coverage);
+  // One long strip alone lies diagonally in the square (its minimal rectangle would waste it).
+  std::vector<OwnedChart> one{strips[0]};
+  auto single = pack_charts(views(one), {});
+  REQUIRE(single.ok());
+  check_packed(one, *single, {});
+  // Area 5: laid flat along a side 5 / 10^2 = 0.05; along the diagonal 5 / (10.5 / sqrt 2)^2 = 0.091.
+  CHECK(single->coverage > 0.085);
+}
+
+TEST_CASE("real flattened CGAL charts packed together: no UV point covered twice") {
+  std::vector<OwnedChart> charts;
+  for (const char* name : {"hand", "elephant", "bunny00", "mushroom"}) {
+    const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
+    HalfedgeMesh disc = mesh;
+    if (compute_topology(mesh).components.size() != 1 || !check_is_disc(mesh).ok()) {
+      auto extrema = find_extrema(mesh);
+      REQUIRE(extrema.ok());
+      auto seam = compute_seam(mesh, *extrema, {});
+      REQUIRE(seam.ok());
+      auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
+      REQUIRE(cut.ok());
+      disc = cut->mesh;
+    }
+    auto uv = parameterize(disc);
+    REQUIRE(uv.ok());
+    const Topology topo = compute_topology(disc);
+    auto patches = extract_disc_patches(disc, topo);
+    REQUIRE(patches.ok());
+    for (const DiscPatch& p : *patches) {
+      OwnedChart c;
+      for (VertexId v : p.to_mesh) c.uv.push_back(uv->uv[v]);
+      c.triangles = p.triangles;
+      for (const Triangle& t : p.triangles) {
+        c.surface_area += 0.5 * (p.positions[t[1]] - p.positions[t[0]]).cross(p.positions[t[2]] - p.positions[t[0]]).norm();
+      }
+      charts.push_back(std::move(c));
+    }
+  }
+  REQUIRE(charts.size() >= 4);
+  const PackOptions o;
+  auto r = pack_charts(views(charts), o);
+  REQUIRE(r.ok());
+  check_packed(charts, *r, o);
+  std::vector<Vec2> all_uv;
+  std::vector<Triangle> all_tris;
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const auto base = static_cast<std::uint32_t>(all_uv.size());
+    for (const Vec2& p : charts[c].uv) all_uv.push_back(r->placements[c].apply(p));
+    for (const Triangle& t : charts[c].triangles) all_tris.push_back({base + t[0], base + t[1], base + t[2]});
+  }
+  const seam::atlas_test::RasterCount raster = seam::atlas_test::rasterize(all_uv, all_tris, 2048);
+  CHECK(raster.twice == 0);
+  // The raster's covered fraction of its bounding box matches the reported coverage.
+  CHECK(raster.covered * raster.sample_area == doctest::Approx(r->coverage).epsilon(0.05 + 0.0));
+}
+
+TEST_CASE("pack refuses bad options and malformed charts with typed errors") {
+  std::vector<OwnedChart> charts{grid_chart(1, 1, 0, Vec2::Zero(), 1)};
+  CHECK(pack_charts(views(charts), {.texture_size = 8}).error().code == ErrorCode::kInvalidArgument);
+  CHECK(pack_charts(views(charts), {.margin_px = -1}).error().code == ErrorCode::kInvalidArgument);
+  CHECK(pack_charts(views(charts), {.texture_size = 64, .margin_px = 9}).error().code == ErrorCode::kInvalidArgument);
+  charts[0].surface_area = 0;
+  CHECK(pack_charts(views(charts)).error().code == ErrorCode::kInvalidArgument);
+  charts[0].surface_area = 1;
+  charts[0].triangles.push_back({0, 1, 999});
+  CHECK(pack_charts(views(charts)).error().code == ErrorCode::kIndexOutOfRange);
+  charts[0].triangles.pop_back();
+  charts[0].uv[0].x() = std::nan("");
+  CHECK(pack_charts(views(charts)).error().code == ErrorCode::kNonFinitePosition);
+  charts[0].uv[0].x() = 0;
+  for (Vec2& p : charts[0].uv) p = Vec2(1, 1);  // zero UV area
+  CHECK(pack_charts(views(charts)).error().code == ErrorCode::kInvalidArgument);
+  auto none = pack_charts(std::span<const PackChart>{});
+  REQUIRE(none.ok());
+  CHECK(none->placements.empty());
+}
