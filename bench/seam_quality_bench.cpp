@@ -13,7 +13,7 @@
 // Seam-stage time = paths + method (ms, summed over the rows of a mesh), measured in one
 // process with the variants run back to back per row; other sessions share the 2 cores, so
 // compare the ratios, not the absolute figures.
-//   ./bench/seam_quality_bench [--quick] [--verbose] [--sets N] [--mesh NAME]
+//   ./bench/seam_quality_bench [--quick] [--verbose] [--sets N] [--mesh NAME] [--speed | --no-speed]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -153,15 +153,60 @@ void run_mesh(const MeshSpec& spec, std::size_t sets, std::vector<Tally>& overal
   std::fflush(stdout);
 }
 
+// Issue 14 item 2: the seam stage (paths + method) of each variant against the paper's, on
+// subdivided meshes of 10k..80k faces, best of 3 with the variants interleaved per repetition.
+void speed_table(bool quick) {
+  std::printf("\n## Seam-stage time (ms, best of 3, variants interleaved) and ratio to the paper's seam (target "
+              "<= 2.0)\n\n");
+  std::printf("| mesh | faces | k | paper ms | before x | impr x | heur x | after x | after optimal | impr/paper len | "
+              "after/paper len |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  struct Size {
+    const char* name;
+    std::size_t faces;
+  };
+  std::vector<Size> sizes = {{"hand", 9000}, {"camel", 19000}, {"dino", 30000}, {"camel", 70000}};
+  if (quick) sizes.resize(1);
+  const auto vars = variants();
+  for (const auto& size : sizes) {
+    const HalfedgeMesh mesh =
+        bench::build_welded(bench::spatially_ordered(bench::subdivide_to(bench::load_cgal(size.name), size.faces)));
+    const EdgeGraph graph = build_edge_graph(mesh);
+    for (std::size_t k : {4u, 8u}) {
+      const auto extrema = fixtures::farthest_point_extrema(mesh, graph, k);
+      std::vector<double> best(vars.size(), 1e300), length(vars.size(), 0);
+      bool after_optimal = false;
+      for (int rep = 0; rep < 3; ++rep) {
+        for (std::size_t i = 0; i < vars.size(); ++i) {
+          auto r = compute_seam(mesh, extrema, vars[i].options);
+          if (!r.ok()) {
+            std::fprintf(stderr, "%s: %s\n", size.name, r.error().message.c_str());
+            std::exit(1);
+          }
+          best[i] = std::min(best[i], stage_ms(*r));
+          length[i] = r->length;
+          if (i + 1 == vars.size()) after_optimal = r->optimal;
+        }
+      }
+      std::printf("| %s | %zu | %zu | %.1f |", size.name, mesh.num_faces(), k, best[0]);
+      for (std::size_t i = 1; i < vars.size(); ++i) std::printf(" %.2f |", best[i] / best[0]);
+      std::printf(" %s | %.4f | %.4f |\n", after_optimal ? "yes" : "no", length[2] / length[0], length.back() / length[0]);
+      std::fflush(stdout);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
+  bool quick = false, speed_only = false, no_speed = false;
   std::size_t sets = 12;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) quick = true;
     if (std::strcmp(argv[i], "--verbose") == 0) g_verbose = true;
+    if (std::strcmp(argv[i], "--speed") == 0) speed_only = true;
+    if (std::strcmp(argv[i], "--no-speed") == 0) no_speed = true;
     if (std::strcmp(argv[i], "--sets") == 0 && i + 1 < argc) sets = std::stoul(argv[++i]);
     if (std::strcmp(argv[i], "--mesh") == 0 && i + 1 < argc) only = argv[++i];
   }
@@ -180,6 +225,10 @@ int main(int argc, char** argv) {
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   const auto vars = variants();
   std::vector<Tally> overall(vars.size());
+  if (speed_only) {
+    speed_table(quick);
+    return 0;
+  }
   for (const auto& spec : meshes) run_mesh(spec, sets, overall);
   std::printf("\n| all rows | count | worst | mean | > 1.01 | > 1.03 | target worst <= %.3f | target mean <= %.3f |\n",
               kTargetWorst, kTargetMean);
@@ -190,5 +239,6 @@ int main(int argc, char** argv) {
                 t.mean(), t.above(1.01), t.above(1.03), t.worst() <= kTargetWorst ? "met" : "MISSED",
                 t.mean() <= kTargetMean ? "met" : "MISSED");
   }
+  if (!no_speed && only.empty()) speed_table(quick);
   return 0;
 }

@@ -46,6 +46,7 @@ class Improver {
   // the parts; true (and the tree re-indexed) when that made the tree shorter.
   Result<bool> try_move(std::span<const std::size_t> removed, const CancelToken& cancel);
 
+  std::size_t work() const { return work_; }
   const std::vector<EdgeId>& edges() const { return edges_; }
   double length() const { return length_; }
   const std::vector<KeyPath>& key_paths() const { return key_paths_; }
@@ -87,6 +88,7 @@ class Improver {
   std::vector<std::vector<HalfedgeId>> out_;
   std::vector<KeyPath> key_paths_;
   std::vector<VertexId> steiner_;
+  std::size_t work_ = 0;  // vertices settled by all searches so far
 };
 
 void Improver::index(std::vector<EdgeId> edges) {
@@ -201,6 +203,7 @@ Result<double> Improver::rejoin(std::size_t parts, const std::vector<std::int32_
     const double left = budget - used;
     if (auto st = search_.run_to_nearest(targets, cancel, left); !st.ok()) return st.take_error();
     const auto settled = search_.settled();
+    work_ += settled.size();
     if (settled.empty()) return std::numeric_limits<double>::infinity();
     const VertexId reached = settled.back();
     const std::int32_t at = local_[reached.index()];
@@ -244,6 +247,7 @@ Result<double> Improver::junction(const std::vector<std::int32_t>& part, const s
       }
     }
     if (auto st = search.run({}, budget, cancel); !st.ok()) return st.take_error();
+    work_ += search.settled().size();
   }
   double best = std::numeric_limits<double>::infinity();
   VertexId at;
@@ -315,17 +319,22 @@ Result<bool> Improver::try_move(std::span<const std::size_t> removed, const Canc
 
 // One sweep: every key path (longest first), then every Steiner point with its key paths.
 // After an accepted move the tree is re-indexed and the sweep goes on at the same position.
-Result<bool> sweep(Improver& tree, const ImproveOptions& options, ImproveStats& stats, const CancelToken& cancel) {
+Result<bool> sweep(Improver& tree, const ImproveOptions& options, std::size_t max_work, ImproveStats& stats,
+                   const CancelToken& cancel) {
   bool improved = false;
+  auto out_of_budget = [&] {
+    stats.budget_spent = stats.budget_spent || tree.work() > max_work;
+    return stats.budget_spent || stats.path_exchanges + stats.vertex_eliminations >= options.max_moves;
+  };
   for (std::size_t i = 0; i < tree.key_paths().size(); ++i) {
-    if (stats.path_exchanges + stats.vertex_eliminations >= options.max_moves) return improved;
+    if (out_of_budget()) return improved;
     const std::size_t one[] = {i};
     ++stats.moves_tried;
     SEAM_TRY(bool moved, tree.try_move(one, cancel));
     if (moved) ++stats.path_exchanges, improved = true;
   }
   for (std::size_t i = 0; i < tree.steiner_points().size(); ++i) {
-    if (stats.path_exchanges + stats.vertex_eliminations >= options.max_moves) return improved;
+    if (out_of_budget()) return improved;
     const std::vector<std::size_t> at = tree.paths_at(tree.steiner_points()[i]);
     if (at.size() < 3) continue;
     ++stats.moves_tried;
@@ -352,11 +361,15 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
   tree.index(std::vector<EdgeId>(edges.begin(), edges.end()));
   ImproveResult result;
   result.stats.length_before = tree.length();
+  const std::size_t max_work = options.max_work > 0
+                                   ? static_cast<std::size_t>(options.max_work * static_cast<double>(mesh.num_vertices()))
+                                   : SIZE_MAX;
   for (int pass = 0; pass < options.max_passes; ++pass) {
     if (cancel.is_cancelled()) return cancelled_error("seam improvement");
-    SEAM_TRY(bool improved, sweep(tree, options, result.stats, cancel));
-    if (!improved) break;
+    SEAM_TRY(bool improved, sweep(tree, options, max_work, result.stats, cancel));
+    if (!improved || result.stats.budget_spent) break;
   }
+  result.stats.settled = tree.work();
   result.stats.length_after = tree.length();
   result.edges = tree.edges();
   return result;

@@ -21,12 +21,19 @@ struct ImproveOptions {
   int max_passes = 8;
   /// Accepted moves at most (each one shortens the tree; this only bounds pathological inputs).
   std::size_t max_moves = 256;
+  /// Work budget: vertices settled by all searches together, as a multiple of the mesh's
+  /// vertex count (0: unbounded). Moves stop (keeping what they gained) once it is spent, so
+  /// the improvement costs at most about this many full Dijkstra runs. Longest key paths are
+  /// tried first, so the budget goes where most is to gain.
+  double max_work = 3.0;
 };
 
 struct ImproveStats {
   std::size_t moves_tried = 0;
   std::size_t path_exchanges = 0;     ///< accepted key-path exchanges
   std::size_t vertex_eliminations = 0;  ///< accepted key-vertex eliminations
+  std::size_t settled = 0;  ///< vertices settled by all searches (the work)
+  bool budget_spent = false;  ///< stopped by ImproveOptions::max_work
   double length_before = 0;
   double length_after = 0;
 };
