@@ -9,13 +9,16 @@
 #include <vector>
 
 #include "bench_util.h"
+#include "core/atlas/features.h"
 #include "core/atlas/overlap.h"
+#include "core/atlas/pack.h"
 #include "core/extrema/extrema.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/topology.h"
 #include "core/seam/cut_graph.h"
 #include "core/seam/seam.h"
 #include "core/uv/parameterize.h"
+#include "core/uv/uv_patch.h"
 #include "fixtures.h"
 
 using namespace seam::core;
@@ -111,11 +114,198 @@ void overlap_section(bool quick) {
   }
 }
 
+// Charts of one mesh as the atlas sees them: per chart its UVs, triangles and 3D area.
+struct OwnedChart {
+  std::vector<Vec2> uv;
+  std::vector<Triangle> triangles;
+  double surface_area = 0;
+};
+
+struct Charted {
+  std::vector<OwnedChart> charts;
+  Distortion distortion;
+  double overlap_area = 0;
+  double ms_seam = 0;
+  double ms_uv = 0;
+  std::size_t features = 0;
+};
+
+// charts "seam": the skeleton seam through the extrema; "features": cut along the feature edges
+// first, then each piece cut to a disc by its cut graph (what charts: "features" amounts to
+// for a piece without protrusions).
+Result<Charted> chart_mesh(const HalfedgeMesh& mesh, bool features) {
+  Charted out;
+  auto t0 = std::chrono::steady_clock::now();
+  HalfedgeMesh disc;
+  if (features) {
+    SEAM_TRY(FeatureEdges f, find_feature_edges(mesh));
+    out.features = f.edges.size();
+    SEAM_TRY(CutMesh first, cut_along_edges(mesh, f.edges));
+    SEAM_TRY(std::vector<EdgeId> rest, compute_cut_graph(first.mesh));
+    SEAM_TRY(CutMesh second, cut_along_edges(first.mesh, rest));
+    disc = std::move(second.mesh);
+  } else {
+    SEAM_TRY(CutMesh cut, disc_of(mesh, false));
+    disc = std::move(cut.mesh);
+  }
+  out.ms_seam = ms_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  SEAM_TRY(UvResult uv, parameterize(disc));
+  out.ms_uv = ms_since(t0);
+  out.distortion = uv.distortion;
+  out.overlap_area = uv.overlap_area;
+  const Topology topo = compute_topology(disc);
+  SEAM_TRY(std::vector<DiscPatch> patches, extract_disc_patches(disc, topo));
+  for (const DiscPatch& p : patches) {
+    OwnedChart c;
+    for (VertexId v : p.to_mesh) c.uv.push_back(uv.uv[v]);
+    c.triangles = p.triangles;
+    for (const Triangle& t : p.triangles) {
+      c.surface_area +=
+          0.5 * (p.positions[t[1]] - p.positions[t[0]]).cross(p.positions[t[2]] - p.positions[t[0]]).norm();
+    }
+    if (c.surface_area > 0) out.charts.push_back(std::move(c));
+  }
+  return out;
+}
+
+struct Packed {
+  PackResult pack;
+  double overlap_area = 0;
+  double overlap_ms = 0;
+};
+
+Packed pack_and_check(const std::vector<OwnedChart>& charts, const PackOptions& options) {
+  std::vector<PackChart> views;
+  for (const OwnedChart& c : charts) views.push_back({c.uv, c.triangles, c.surface_area});
+  auto r = pack_charts(views, options);
+  if (!r.ok()) {
+    std::printf("pack failed: %s\n", r.error().message.c_str());
+    std::exit(1);
+  }
+  std::vector<Vec2> uv;
+  std::vector<Triangle> tris;
+  std::vector<std::uint32_t> chart_of;
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const auto base = static_cast<std::uint32_t>(uv.size());
+    for (const Vec2& p : charts[c].uv) uv.push_back(r->placements[c].apply(p));
+    for (const Triangle& t : charts[c].triangles) {
+      tris.push_back({base + t[0], base + t[1], base + t[2]});
+      chart_of.push_back(static_cast<std::uint32_t>(c));
+    }
+  }
+  auto overlap = find_overlaps(uv, tris, chart_of);
+  return {*r, overlap.ok() ? overlap->overlap_area : -1, overlap.ok() ? overlap->ms : 0};
+}
+
+void pack_section() {
+  std::printf("\n== packing (texture 1024, margin 4 px, rotate): per asset, charts of several CGAL meshes\n");
+  std::printf("%-44s %-8s %6s %8s %8s %8s %9s %9s %8s %9s %9s\n", "asset", "charts", "n", "seam_ms", "uv_ms",
+              "pack_ms", "coverage", "rect_fill", "density", "overlap", "angle");
+  struct Asset {
+    const char* label;
+    std::vector<const char*> meshes;
+    bool features;
+  };
+  const Asset assets[] = {
+      {"animals: hand camel dino elephant", {"hand", "camel", "dino", "elephant"}, false},
+      {"figures: homer man bear armadillo", {"homer", "man", "bear", "armadillo"}, false},
+      {"mixed: bunny mushroom elk knot1 pig", {"bunny00", "mushroom", "elk", "knot1", "pig"}, false},
+      {"hard: fandisk rotor pinion joint cube", {"fandisk", "rotor", "pinion", "joint", "cube"}, true},
+      {"hard: cheese-box couplingdown turbine", {"cheese-box", "couplingdown", "turbine"}, true},
+      {"hard as seam: fandisk rotor pinion joint cube", {"fandisk", "rotor", "pinion", "joint", "cube"}, false},
+  };
+  for (const Asset& a : assets) {
+    std::vector<OwnedChart> charts;
+    double seam_ms = 0;
+    double uv_ms = 0;
+    double angle_weighted = 0;
+    double area = 0;
+    for (const char* name : a.meshes) {
+      const IndexedMesh soup = sb::load_cgal(name);
+      auto weld = weld_vertices(soup.positions, {});
+      auto mesh = weld.ok() ? build_halfedge_mesh(weld->positions, remap_triangles(soup.triangles, weld->input_to_welded))
+                            : Result<HalfedgeMesh>(weld.error());
+      if (!mesh.ok()) {
+        std::printf("  (%s skipped: %s)\n", name, mesh.error().message.c_str());
+        continue;
+      }
+      auto c = chart_mesh(*mesh, a.features);
+      if (!c.ok()) {
+        std::printf("  %s: %s\n", name, c.error().message.c_str());
+        continue;
+      }
+      seam_ms += c->ms_seam;
+      uv_ms += c->ms_uv;
+      double mesh_area = 0;
+      for (const OwnedChart& ch : c->charts) mesh_area += ch.surface_area;
+      angle_weighted += c->distortion.angle * mesh_area;
+      area += mesh_area;
+      const Packed alone = pack_and_check(c->charts, {});
+      std::printf("    %-14s %4zu charts, alone: coverage %.3f, rect_fill %.3f, angle %.3f\n", name, c->charts.size(),
+                  alone.pack.coverage, alone.pack.rect_fill, c->distortion.angle);
+      for (OwnedChart& ch : c->charts) charts.push_back(std::move(ch));
+    }
+    const Packed p = pack_and_check(charts, {});
+    std::printf("%-44s %-8s %6zu %8.1f %8.1f %8.2f %9.3f %9.3f %8.4f %9.2g %9.3f\n", a.label,
+                a.features ? "features" : "seam", charts.size(), seam_ms, uv_ms, p.pack.ms, p.pack.coverage,
+                p.pack.rect_fill, p.pack.density_ratio, p.overlap_area, angle_weighted / area);
+    std::fflush(stdout);
+  }
+}
+
+// 1,000 and 10,000 charts (random rectangles and L shapes at random angles and densities).
+void pack_scale_section() {
+  std::printf("\n== packing time (issue target: 1,000 charts <= 50 ms)\n");
+  std::printf("%8s %9s %9s %9s %9s\n", "charts", "pack_ms", "coverage", "rect_fill", "overlap");
+  for (int n : {100, 1000, 10000}) {
+    std::vector<OwnedChart> charts;
+    std::uint64_t state = 12345;
+    auto rnd = [&]() {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      return static_cast<double>(state >> 11) / 9007199254740992.0;
+    };
+    for (int k = 0; k < n; ++k) {
+      OwnedChart c;
+      const double w = 0.1 + 2 * rnd();
+      const double h = 0.1 + 2 * rnd();
+      const double a = 6.283 * rnd();
+      const bool ell = rnd() < 0.5;
+      const std::vector<Vec2> corners = ell ? std::vector<Vec2>{{0, 0}, {w, 0}, {w, h / 3}, {w / 3, h / 3}, {w / 3, h}, {0, h}}
+                                            : std::vector<Vec2>{{0, 0}, {w, 0}, {w, h}, {0, h}};
+      for (const Vec2& p : corners) c.uv.emplace_back(std::cos(a) * p.x() - std::sin(a) * p.y(), std::sin(a) * p.x() + std::cos(a) * p.y());
+      if (ell) {
+        c.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+      } else {
+        c.triangles = {{0, 1, 2}, {0, 2, 3}};
+      }
+      const double uv_area = ell ? (w * h / 3 + (w / 3) * (2 * h / 3)) : w * h;
+      c.surface_area = uv_area * (0.5 + rnd());
+      charts.push_back(std::move(c));
+    }
+    Packed best{};
+    double best_ms = 1e300;
+    for (int rep = 0; rep < 3; ++rep) {
+      Packed p = pack_and_check(charts, {});
+      if (p.pack.ms < best_ms) {
+        best_ms = p.pack.ms;
+        best = p;
+      }
+    }
+    std::printf("%8d %9.2f %9.3f %9.3f %9.2g\n", n, best_ms, best.pack.coverage, best.pack.rect_fill, best.overlap_area);
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string what = argc > 1 ? argv[1] : "all";
   const bool quick = what == "quick";
   if (what == "overlap" || what == "all" || quick) overlap_section(quick);
+  if (what == "pack" || what == "all") {
+    pack_section();
+    pack_scale_section();
+  }
   return 0;
 }

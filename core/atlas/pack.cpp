@@ -1,5 +1,7 @@
 #include "core/atlas/pack.h"
 
+#include "core/atlas/profile_pack.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -91,6 +93,8 @@ class Skyline {
   double height_;
   std::vector<Segment> segments_;
 };
+
+constexpr std::size_t kMaxProfileCharts = 256;
 
 struct Slot {
   Vec2 pos = Vec2::Zero();
@@ -219,6 +223,55 @@ MinAreaRect min_square_rect(std::span<const Vec2> hull) {
     best.size = Vec2(best.size.y(), best.size.x());
   }
   return best;
+}
+
+// Boundary edges of a chart (edges used by one triangle), as point pairs through `map`.
+template <class F>
+std::vector<std::array<Vec2, 2>> boundary_segments(const PackChart& chart, F&& map) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(3 * chart.triangles.size());
+  for (const Triangle& t : chart.triangles) {
+    for (int k = 0; k < 3; ++k) edges.emplace_back(std::minmax(t[k], t[(k + 1) % 3]));
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::array<Vec2, 2>> out;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) out.push_back({map(chart.uv[edges[i].first]), map(chart.uv[edges[i].second])});
+    i = j;
+  }
+  return out;
+}
+
+// Profile packing into the smallest square found by bisection; infinity if it never fits.
+double smallest_profile_square(const std::vector<detail::ProfileChart>& charts, double margin_fraction, bool rotate,
+                               double start_side, std::vector<detail::ProfileSlot>& slots) {
+  constexpr int kColumns = 256;
+  std::vector<std::size_t> order(charts.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return charts[a].size.prod() > charts[b].size.prod();
+  });
+  double area = 0;
+  for (const auto& c : charts) area += c.size.prod();
+  double lo = std::sqrt(area) * 0.5;
+  double hi = start_side;
+  std::vector<detail::ProfileSlot> trial;
+  if (!detail::profile_pack_square(charts, order, hi, margin_fraction * hi, rotate, kColumns, trial)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  slots = trial;
+  for (int it = 0; it < 20 && hi - lo > 1e-3 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (detail::profile_pack_square(charts, order, mid, margin_fraction * mid, rotate, kColumns, trial)) {
+      hi = mid;
+      slots = trial;
+    } else {
+      lo = mid;
+    }
+  }
+  return hi;
 }
 
 }  // namespace
@@ -351,6 +404,7 @@ Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOpti
     }
     return improved;
   };
+  const std::vector<MinAreaRect> min_rect = rect;
   pack_all(sizes);
   if (options.rotate) {
     // Charts longer than the square's side would be at their minimal area: turn those to their
@@ -373,27 +427,47 @@ Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOpti
     }
   }
 
-  const double m = margin_fraction * side;
+  // Slots as (quarter turns, shift) of each chart's rectangle frame [0, size].
+  std::vector<detail::ProfileSlot> placed(n);
+  for (std::size_t c = 0; c < n; ++c) {
+    placed[c] = {slots[c].turned ? 1 : 0, slots[c].pos + Vec2::Constant(0.5 * margin_fraction * side)};
+  }
+  // Few charts: also drop them by their column profiles, so that concave charts nest; keep the
+  // smaller square. (Its cost grows with charts x columns; the rectangles serve large counts.)
+  if (n <= kMaxProfileCharts) {
+    std::vector<detail::ProfileChart> profile(n);
+    for (std::size_t c = 0; c < n; ++c) {
+      const MinAreaRect& r = min_rect[c];
+      profile[c].size = r.size;
+      profile[c].boundary = boundary_segments(charts[c], [&](const Vec2& uv) {
+        return Vec2(rotate(scale[c] * uv, r.angle) - r.min);
+      });
+    }
+    if (cancel.is_cancelled()) return cancelled_error("pack");
+    std::vector<detail::ProfileSlot> profile_slots;
+    const double profile_side = smallest_profile_square(profile, margin_fraction, options.rotate, side, profile_slots);
+    if (profile_side < side) {
+      side = profile_side;
+      rect = min_rect;
+      placed = std::move(profile_slots);
+    }
+  }
+
   const double inv = 1.0 / side;
   double min_density = std::numeric_limits<double>::infinity();
   double max_density = 0;
   double rect_area = 0;
   for (std::size_t c = 0; c < n; ++c) {
-    const Slot& slot = slots[c];
-    const Vec2 corner = slot.pos + Vec2::Constant(0.5 * m);
     ChartPlacement& p = result.placements[c];
-    // q = Rot(angle) (scale uv) - rect.min lies in [0, size]; turned: (x, y) -> (size.y - y, x).
-    Vec2 shift = -rect[c].min;
-    double angle = rect[c].angle;
-    Vec2 extent = rect[c].size;
-    if (slot.turned) {
-      angle += 0.5 * std::numbers::pi;
-      shift = Vec2(rect[c].size.y() + rect[c].min.y(), -rect[c].min.x());
-      extent = Vec2(rect[c].size.y(), rect[c].size.x());
-    }
+    // q = Rot(rect angle) (scale uv) - rect.min lies in [0, size]; then turned and shifted.
+    const int turn = placed[c].turn;
+    const double angle = rect[c].angle + turn * 0.5 * std::numbers::pi;
+    const Vec2 shift = detail::turn_point(-rect[c].min, turn, rect[c].size) + placed[c].shift;
+    const Vec2 extent = (turn & 1) ? Vec2(rect[c].size.y(), rect[c].size.x()) : rect[c].size;
+    const Vec2 corner = placed[c].shift;
     p.scale = scale[c] * inv;
     p.angle = angle;
-    p.offset = (shift + corner) * inv;
+    p.offset = shift * inv;
     p.rect_min = corner * inv;
     p.rect_max = (corner + extent) * inv;
     rect_area += extent.x() * extent.y();

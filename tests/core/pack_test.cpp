@@ -4,7 +4,9 @@
 // equal to the placed area), on generated and on real flattened CGAL charts.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <random>
 
@@ -49,6 +51,23 @@ OwnedChart grid_chart(double a, double b, double angle, const Vec2& shift, doubl
   }
   c.surface_area = density2 * a * b;
   return c;
+}
+
+double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * d)).norm();
+}
+
+/// Distance between segments [a, b] and [c, d]; 0 when they cross.
+double segment_distance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  auto orient = [](const Vec2& p, const Vec2& q, const Vec2& x) {
+    return (q.x() - p.x()) * (x.y() - p.y()) - (q.y() - p.y()) * (x.x() - p.x());
+  };
+  if (orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0) return 0;
+  return std::min({point_segment_distance(a, c, d), point_segment_distance(b, c, d), point_segment_distance(c, a, b),
+                   point_segment_distance(d, a, b)});
 }
 
 double area_of(std::span<const Vec2> uv, std::span<const Triangle> tris) {
@@ -106,16 +125,31 @@ double check_packed(const std::vector<OwnedChart>& charts, const PackResult& r, 
     min_density = std::min(min_density, density);
     max_density = std::max(max_density, density);
   }
-  // Margins: the bounding boxes of any two placed charts are margin_px texels apart along x or y.
+  // Margins: any two placed charts are margin_px texels apart (distance between their
+  // boundary segments; interiors cannot meet without the boundaries meeting, checked below).
+  std::vector<std::vector<std::array<Vec2, 2>>> outline(charts.size());
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const Triangle& t : charts[c].triangles) {
+      for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
+    }
+    for (const auto& [e, count] : uses) {
+      if (count == 1) outline[c].push_back({r.placements[c].apply(charts[c].uv[e.first]), r.placements[c].apply(charts[c].uv[e.second])});
+    }
+  }
+  const double margin = o.margin_px * texel;
+  double closest = 1e300;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     for (std::size_t j = i + 1; j < boxes.size(); ++j) {
       const double gap_x = std::max(boxes[j].first.x() - boxes[i].second.x(), boxes[i].first.x() - boxes[j].second.x());
       const double gap_y = std::max(boxes[j].first.y() - boxes[i].second.y(), boxes[i].first.y() - boxes[j].second.y());
-      CAPTURE(i);
-      CAPTURE(j);
-      CHECK(std::max(gap_x, gap_y) >= o.margin_px * texel * (1 - 1e-6));
+      if (std::max(gap_x, gap_y) >= margin) continue;  // boxes already apart
+      for (const auto& a : outline[i]) {
+        for (const auto& b : outline[j]) closest = std::min(closest, segment_distance(a[0], a[1], b[0], b[1]));
+      }
     }
   }
+  if (closest < 1e300) CHECK(closest >= margin * (1 - 1e-6));
   CHECK(max_density / min_density == doctest::Approx(1.0).epsilon(1e-9));
   CHECK(r.density_ratio == doctest::Approx(1.0).epsilon(1e-9));
   CHECK(r.coverage == doctest::Approx(placed_area).epsilon(1e-9));
