@@ -40,14 +40,16 @@ constexpr const char* kSvgType = "image/svg+xml";
 
 // The viewer talks to this server only: scripts, styles, fetches and images from 'self'
 // (blob: and data: for the GLBs it parses and the textures it makes), nothing from elsewhere.
+// The Draco decoder is WebAssembly run in a worker made from a blob.
 constexpr const char* kPagePolicy =
-    "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data: blob:; "
-    "connect-src 'self' data: blob:; base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+    "default-src 'none'; script-src 'self' 'wasm-unsafe-eval'; worker-src blob:; style-src 'self'; "
+    "img-src 'self' data: blob:; connect-src 'self' data: blob:; base-uri 'none'; form-action 'none'; "
+    "frame-ancestors 'none'";
 
 // Fixed route labels keep metric cardinality bounded whatever paths clients probe.
 std::string route_label(const std::string& path) {
   for (const char* r : {"/seam", "/healthz", "/readyz", "/metrics", "/version", "/", "/viewer.js", "/viewer.css",
-                        "/openapi.json", "/sample.glb"}) {
+                        "/openapi.json", "/sample.glb", "/draco/draco_wasm_wrapper.js", "/draco/draco_decoder.wasm"}) {
     if (path == r) return r;
   }
   return "other";

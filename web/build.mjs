@@ -18,10 +18,15 @@ await build({
   entryPoints: [join(here, 'src', 'viewer.js')],
   bundle: true,
   minify: true,
-  format: 'iife',
+  format: 'esm', // a module script: three's loaders use import.meta.url
   target: ['es2020'],
   legalComments: 'eof',
   outfile: join(out, 'viewer.js'),
   logLevel: 'warning',
 });
 for (const f of ['index.html', 'viewer.css']) copyFileSync(join(here, 'src', f), join(out, f));
+// three's Draco decoder (WebAssembly), which DRACOLoader runs in a worker: for .drc files and
+// GLBs with KHR_draco_mesh_compression.
+const draco = join(here, 'node_modules', 'three', 'examples', 'jsm', 'libs', 'draco');
+mkdirSync(join(out, 'draco'), { recursive: true });
+for (const f of ['draco_wasm_wrapper.js', 'draco_decoder.wasm']) copyFileSync(join(draco, f), join(out, 'draco', f));

@@ -60,7 +60,7 @@ TEST_CASE("web: the page, its script and stylesheet are served from memory with 
   CHECK(policy.find("script-src 'self'") != std::string::npos);
   CHECK_FALSE(page->get_header_value("X-Request-Id").empty());
   if (seam::server::viewer_built()) {
-    CHECK(page->body.find("<script src=\"/viewer.js\"") != std::string::npos);
+    CHECK(page->body.find("<script type=\"module\" src=\"/viewer.js\"") != std::string::npos);
     for (const auto& [path, type] : {std::pair{"/viewer.js", "text/javascript; charset=utf-8"},
                                      std::pair{"/viewer.css", "text/css; charset=utf-8"}}) {
       auto res = client->Get(path);

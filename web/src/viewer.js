@@ -8,6 +8,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
+import { DRACOLoader } from 'three/examples/jsm/loaders/DRACOLoader.js';
 import { GLTFExporter } from 'three/examples/jsm/exporters/GLTFExporter.js';
 import { OBJLoader } from 'three/examples/jsm/loaders/OBJLoader.js';
 import { mergeGeometries } from 'three/examples/jsm/utils/BufferGeometryUtils.js';
@@ -53,7 +54,7 @@ function statusText() {
     case 'computing': return 'computing the seam…';
     case 'ready': return `${state.assetName}: ${state.extrema.length} extrema, ${state.seamEdges} seam edges`;
     case 'error': return 'error (see above)';
-    default: return 'Drop a GLB, glTF, OBJ or OFF file, or load the sample.';
+    default: return 'Drop a GLB, glTF, Draco, OBJ or OFF file, or load the sample.';
   }
 }
 
@@ -155,10 +156,25 @@ function modelFrame() {
 
 // ---- loading assets ---------------------------------------------------------------------------
 
+// three's Draco decoder, served by seamd (WebAssembly in a worker), for .drc files and GLBs
+// with KHR_draco_mesh_compression.
+const draco = new DRACOLoader().setDecoderPath('/draco/').setDecoderConfig({ type: 'wasm' });
+const asError = (e) => (e instanceof Error ? e : new Error(String(e?.message ?? e)));
+
 function parseGltf(bytes) {
   return new Promise((resolve, reject) => {
-    new GLTFLoader().parse(bytes, '', resolve, (e) => reject(e instanceof Error ? e : new Error(String(e))));
+    new GLTFLoader().setDRACOLoader(draco).parse(bytes, '', resolve, (e) => reject(asError(e)));
   });
+}
+
+// A raw Draco mesh as a one-primitive "asset" (mesh 0, primitive 0, as POST /seam numbers it).
+// DRACOLoader and the server both number vertices by Draco point id.
+async function parseDrc(bytes) {
+  const geometry = await new Promise((resolve, reject) => draco.parse(bytes, resolve, (e) => reject(asError(e))));
+  const mesh = new THREE.Mesh(geometry);
+  const scene = new THREE.Group();
+  scene.add(mesh);
+  return { scene, parser: { associations: new Map([[mesh, { meshes: 0, primitives: 0 }]]) } };
 }
 
 // The first triangle primitive of the asset, with its glTF mesh and primitive indices.
@@ -204,7 +220,7 @@ async function loadAsset(name, buffer) {
   let gltf;
   try {
     buffer = await toGlb(name, buffer);
-    gltf = await parseGltf(buffer);
+    gltf = name.toLowerCase().endsWith('.drc') ? await parseDrc(buffer.slice(0)) : await parseGltf(buffer);
   } catch (e) {
     return showError({ message: `cannot read ${name} in the browser: ${e.message}` });
   }
@@ -217,6 +233,7 @@ async function loadAsset(name, buffer) {
   assetRoot = gltf.scene;
   scene.add(assetRoot);
   inputMesh = target.object;
+  if (!inputMesh.geometry.attributes.normal) inputMesh.geometry.computeVertexNormals();
   inputMesh.material = new THREE.MeshStandardMaterial({
     color: 0xb8bcc4, roughness: 0.8, side: THREE.DoubleSide,
     polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,

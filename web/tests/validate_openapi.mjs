@@ -56,7 +56,7 @@ for (const p of known ? known[1].split(',').map((s) => s.trim()) : []) {
 }
 
 // Every route the server registers is a path of the document.
-for (const route of ['/seam', '/', '/viewer.js', '/viewer.css', '/sample.glb', '/openapi.json', '/healthz', '/readyz', '/metrics', '/version']) {
+for (const route of ['/seam', '/', '/viewer.js', '/viewer.css', '/draco/draco_wasm_wrapper.js', '/draco/draco_decoder.wasm', '/sample.glb', '/openapi.json', '/healthz', '/readyz', '/metrics', '/version']) {
   if (!doc.paths[route]) fail(`route ${route} is not documented`);
 }
 

@@ -195,9 +195,23 @@ async function run() {
         `the server's refusal is shown: "${shown}"`);
     }
 
+    // A dropped file: the cut sample as a Draco-compressed GLB (decoded by the page's
+    // WebAssembly Draco decoder, sent as it is to the server).
+    const dracoRes = await fetch(`${base}/seam?extrema=auto&method=mst&uv=none&draco=true&output=glb`,
+      { method: 'POST', headers: { 'Content-Type': 'model/gltf-binary' }, body: asset });
+    const dracoGlb = new Uint8Array(await dracoRes.arrayBuffer());
+    check(dracoRes.status === 200 && Buffer.from(dracoGlb).includes('KHR_draco_mesh_compression'), `a Draco GLB to open (${dracoGlb.length} bytes)`);
+    await page.setInputFiles('#file', { name: 'starfish-draco.glb', mimeType: 'model/gltf-binary', buffer: Buffer.from(dracoGlb) });
+    const opened = await waitAnswered(page, hidden.requests);
+    check(opened.status === 'ready', `the Draco GLB is shown and cut (${opened.error?.message ?? 'no error'})`);
+    const expectedOpened = await serverAnswer(base, dracoGlb, opened.params);
+    check(opened.edges.length > 0 && isDeepStrictEqual(opened.edges, seamOf(expectedOpened.body).edges), `its seam is the server's (${opened.edges.length} edges)`);
+
     const foreign = requests.filter((u) => !u.startsWith(`${base}/`) && !u.startsWith('data:') && !u.startsWith('blob:'));
     check(foreign.length === 0, `every request went to ${base} (${requests.length} requests${foreign.length ? `; foreign: ${foreign.join(', ')}` : ''})`);
-    writeFileSync(join(outDir, 'viewer-state.json'), JSON.stringify({ first, added, removed, hidden }, null, 1));
+    const unexpected = consoleErrors.filter((m) => !/status of 400/.test(m));
+    check(unexpected.length === 0, `no console errors but the refused request's (${unexpected.join(' | ') || 'none'})`);
+    writeFileSync(join(outDir, 'viewer-state.json'), JSON.stringify({ first, added, removed, hidden, opened }, null, 1));
     console.log(`viewer test: ${checks} checks passed in ${((Date.now() - started) / 1000).toFixed(1)} s; screenshot ${join(outDir, 'viewer.png')}`);
   } finally {
     await browser.close();
