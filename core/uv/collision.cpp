@@ -68,13 +68,24 @@ void for_each_box_pair(const std::vector<Box>& boxes, F&& f) {
 
 // Earliest t in (0, t_max] at which p + t dp lies on the segment [a + t da, b + t db].
 double contact_time(const Vec2& p, const Vec2& dp, const Vec2& a, const Vec2& da, const Vec2& b, const Vec2& db,
-                    double t_max) {
+                    double t_max, double gap) {
   const Vec2 e = b - a;
   const Vec2 de = db - da;
   const Vec2 q = p - a;
   const Vec2 dq = dp - da;
-  const double c0 = cross2(e, q);
+  const double len = e.norm();
+  double c0 = cross2(e, q);
   const double c1 = cross2(e, dq) + cross2(de, q);
+  if (gap > 0 && len > 0) {
+    // The line offset by `gap` towards the vertex: cross(e, q) = side * gap * |e|.
+    const double side = c0 >= 0 ? 1.0 : -1.0;
+    const double s0 = q.dot(e) / (len * len);
+    const double slack = gap / len;
+    if (std::abs(c0) <= gap * len && s0 >= -slack && s0 <= 1 + slack) {
+      return side * c1 < 0 ? 0.0 : std::numeric_limits<double>::infinity();  // already within the gap
+    }
+    c0 -= side * gap * len;
+  }
   const double c2 = cross2(de, dq);
   double roots[2];
   int count = 0;
@@ -99,7 +110,8 @@ double contact_time(const Vec2& p, const Vec2& dp, const Vec2& a, const Vec2& da
     const Vec2 et = e + t * de;
     const double len2 = et.squaredNorm();
     const double s = len2 > 0 ? (q + t * dq).dot(et) / len2 : 0.0;
-    if (s >= -1e-9 && s <= 1 + 1e-9) return t;
+    const double slack = len2 > 0 ? 1e-9 + gap / std::sqrt(len2) : 1e-9;
+    if (s >= -slack && s <= 1 + slack) return t;
   }
   return std::numeric_limits<double>::infinity();
 }
@@ -123,7 +135,7 @@ bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
 }  // namespace
 
 CollisionStep max_collision_free_step(const DiscPatch& patch, const std::vector<Vec2>& uv,
-                                      const std::vector<Vec2>& direction, double t_max) {
+                                      const std::vector<Vec2>& direction, double t_max, double gap) {
   CollisionStep out;
   out.step = t_max;
   const std::vector<std::uint32_t>& loop = patch.boundary;
@@ -134,7 +146,7 @@ CollisionStep max_collision_free_step(const DiscPatch& patch, const std::vector<
   for (std::size_t i = 0; i < nb; ++i) {
     const Vec2& p = uv[loop[i]];
     const Vec2 p1 = p + t_max * direction[loop[i]];
-    boxes[i] = {p.cwiseMin(p1), p.cwiseMax(p1)};
+    boxes[i] = {p.cwiseMin(p1) - Vec2::Constant(gap), p.cwiseMax(p1) + Vec2::Constant(gap)};
   }
   for (std::size_t i = 0; i < nb; ++i) {
     const Box& a = boxes[i];
@@ -151,7 +163,7 @@ CollisionStep max_collision_free_step(const DiscPatch& patch, const std::vector<
     const std::uint32_t v = loop[i];
     const std::uint32_t a = loop[e];
     const std::uint32_t b = loop[e1];
-    const double t = contact_time(uv[v], direction[v], uv[a], direction[a], uv[b], direction[b], t_max);
+    const double t = contact_time(uv[v], direction[v], uv[a], direction[a], uv[b], direction[b], t_max, gap);
     if (t <= t_max) {
       best = std::min(best, t);
       out.colliding.insert(out.colliding.end(), {v, a, b});

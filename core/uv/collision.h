@@ -24,12 +24,16 @@ struct CollisionStep {
 /// together with max_injective_step (no triangle degenerates) this keeps a bijective map
 /// bijective along the step. Per pair the contact time is the smallest root of a quadratic
 /// (the vertex collinear with the moving edge) at which the vertex lies on the segment.
+/// With `gap` > 0 the vertex must also stay `gap` away from the edge's line where it faces the
+/// segment (the line offset by gap towards the vertex, at the edge's start length), so that
+/// rounding the result (e.g. to float32) cannot close the last gap; a vertex already closer
+/// than `gap` and not moving away counts as colliding at t = 0.
 /// Candidate pairs come from a uniform grid over the boxes swept on [0, t_max].
 /// Preconditions: uv and direction have one entry per patch vertex; t_max > 0 finite.
 /// Complexity: O(B + P) for B boundary vertices and P candidate pairs (O(B) when the swept
 /// boxes are small against the chart).
 CollisionStep max_collision_free_step(const DiscPatch& patch, const std::vector<Vec2>& uv,
-                                      const std::vector<Vec2>& direction, double t_max);
+                                      const std::vector<Vec2>& direction, double t_max, double gap = 0);
 
 /// Whether the boundary loop of the chart (as placed by `uv`) is a simple closed curve:
 /// no two non-adjacent boundary edges meet, and adjacent ones meet only at their common vertex.

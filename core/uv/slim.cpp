@@ -265,6 +265,11 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
   // precision; then the weights are capped and the step retried. The line search on the true
   // energy keeps every step a descent step either way.
   double weight_cap = kInf;
+  // Boundary vertices keep 1e-4 of the chart's size from the boundary edges they face: far
+  // below a texel, far above float32's resolution wherever the chart is packed.
+  double area_3d = 0;
+  for (const TriangleOperator& op : ops) area_3d += op.area;
+  const double gap = 1e-4 * std::sqrt(area_3d);
   // A Tutte start is far from the optimum (its convex boundary squeezes whole regions), so it
   // gets three times the step budget.
   const int max_iterations = result.tutte_start ? 3 * options.iterations : options.iterations;
@@ -349,7 +354,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
     bool searched = false;
     bool collided = false;
     if (options.injective) {
-      CollisionStep collision = max_collision_free_step(patch, uv, direction, step);
+      CollisionStep collision = max_collision_free_step(patch, uv, direction, step, gap);
       if (collision.limited) {
         ++result.collision_limited_steps;
         collided = true;
@@ -361,7 +366,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
         for (int round = 0; round < 4 && collision.limited; ++round) {
           for (std::uint32_t v : collision.colliding) held[v] = Vec2::Zero();
           const double held_step = std::min(1.0, 0.9 * max_injective_step(patch, uv, held));
-          collision = max_collision_free_step(patch, uv, held, held_step);
+          collision = max_collision_free_step(patch, uv, held, held_step, gap);
           if (!collision.limited || round == 3) {
             const double bound = collision.limited ? 0.9 * collision.step : held_step;
             trial_energy = line_search(held, bound);
@@ -369,7 +374,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
           }
         }
         if (!searched) {
-          step = 0.9 * max_collision_free_step(patch, uv, direction, step).step;
+          step = 0.9 * max_collision_free_step(patch, uv, direction, step, gap).step;
         }
       }
     }
