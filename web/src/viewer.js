@@ -158,7 +158,7 @@ function modelFrame() {
 
 // three's Draco decoder, served by seamd (WebAssembly in a worker), for .drc files and GLBs
 // with KHR_draco_mesh_compression.
-const draco = new DRACOLoader().setDecoderPath('/draco/').setDecoderConfig({ type: 'wasm' });
+const draco = new DRACOLoader().setDecoderPath('/draco/');
 const asError = (e) => (e instanceof Error ? e : new Error(String(e?.message ?? e)));
 
 function parseGltf(bytes) {
@@ -411,10 +411,12 @@ async function showCut(uv) {
   if (!attr) throw new Error(`the cut asset has no TEXCOORD_${uv.channel}`);
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute('position', cut.geometry.attributes.position);
-  if (cut.geometry.attributes.normal) geometry.setAttribute('normal', cut.geometry.attributes.normal);
-  else geometry.computeVertexNormals();
   geometry.setAttribute('uv', attr);
   geometry.setIndex(cut.geometry.index);
+  // Without NORMAL in the asset: smooth normals from the faces. The cut split the vertices
+  // along the seam, so its two sides are shaded apart, as a renderer would shade the asset.
+  if (cut.geometry.attributes.normal) geometry.setAttribute('normal', cut.geometry.attributes.normal);
+  else geometry.computeVertexNormals();
   disposeObject(gltf.scene);
   cutMesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({
     map: checker(), roughness: 0.85, side: THREE.DoubleSide,
@@ -626,6 +628,11 @@ function vertexScreenPosition(v) {
   return { x: r.left + ((p.x + 1) / 2) * r.width, y: r.top + ((1 - p.y) / 2) * r.height };
 }
 
-window.seamViewer = { state, vertexScreenPosition, render, loadAsset };
+// The model-space position of vertex v of the target primitive, as the page has it.
+const vertexOf = (v) => (inputMesh ? vertexPosition(v).toArray() : null);
+// The bytes the page sends as the asset (OBJ and OFF: the GLB it made of them).
+const assetBytes = () => (state.asset ? Array.from(state.asset) : null);
+
+window.seamViewer = { state, vertexScreenPosition, vertexOf, assetBytes, render, loadAsset };
 resize();
 publish();

@@ -6,12 +6,13 @@
 // from this view" sends hide_from (the page shows the server's answer, error or not), the cut
 // GLB downloads, and no request leaves 127.0.0.1.
 //   node viewer.test.mjs SEAMD_BINARY OUT_DIR      (exit 77: chromium is not installed)
-import { spawn } from 'node:child_process';
+import { spawn, spawnSync } from 'node:child_process';
 import { existsSync, mkdirSync, writeFileSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { createInterface } from 'node:readline';
 import { isDeepStrictEqual } from 'node:util';
 import { decodePng } from './png.mjs';
+import { ellipsoid, toObj, toOff } from './fixtures.mjs';
 
 const SKIP = 77;
 const chromiumPath = process.env.SEAM_CHROMIUM || '/usr/bin/chromium';
@@ -207,11 +208,36 @@ async function run() {
     const expectedOpened = await serverAnswer(base, dracoGlb, opened.params);
     check(opened.edges.length > 0 && isDeepStrictEqual(opened.edges, seamOf(expectedOpened.body).edges), `its seam is the server's (${opened.edges.length} edges)`);
 
+    // OFF, OBJ (made into a GLB by the page) and raw Draco files.
+    const shape = ellipsoid();
+    const files = [['ellipsoid.off', Buffer.from(toOff(shape))], ['ellipsoid.obj', Buffer.from(toObj(shape))]];
+    const objPath = join(outDir, 'ellipsoid.obj'), drcPath = join(outDir, 'ellipsoid.drc');
+    writeFileSync(objPath, toObj(shape));
+    const encoded = spawnSync('draco_encoder', ['-i', objPath, '-o', drcPath], { encoding: 'utf8' });
+    if (encoded.status === 0) files.push(['ellipsoid.drc', readFileSync(drcPath)]);
+    else console.log('# draco_encoder (Debian package draco) not found: the raw .drc case is not checked');
+    let last = opened;
+    for (const [name, bytes] of files) {
+      await page.setInputFiles('#file', { name, mimeType: 'application/octet-stream', buffer: bytes });
+      const shown = await waitAnswered(page, last.requests);
+      last = shown;
+      check(shown.status === 'ready' && shown.extrema.length === 2, `${name}: shown and cut, extrema ${JSON.stringify(shown.extrema)} (${shown.error?.message ?? 'no error'})`);
+      const sent = new Uint8Array(await page.evaluate(() => window.seamViewer.assetBytes()));
+      const answer = await serverAnswer(base, sent, shown.params);
+      check(isDeepStrictEqual(shown.edges, seamOf(answer.body).edges), `${name}: the seam is the server's (${shown.edges.length} edges)`);
+      // The extrema lie at the two tips (|x| near 3), and for OFF the page keeps the file's numbering.
+      const at = await page.evaluate((vs) => vs.map((v) => window.seamViewer.vertexOf(v)), shown.extrema);
+      check(at.every((p) => Math.abs(p[0]) > 2.5) && at[0][0] * at[1][0] < 0, `${name}: one extremum at each tip`);
+      if (name.endsWith('.off')) {
+        check(shown.extrema.every((v, k) => shape.v[v].every((x, c) => Math.abs(x - at[k][c]) < 1e-6)), 'ellipsoid.off: extrema are the file\'s vertex indices');
+      }
+    }
+
     const foreign = requests.filter((u) => !u.startsWith(`${base}/`) && !u.startsWith('data:') && !u.startsWith('blob:'));
     check(foreign.length === 0, `every request went to ${base} (${requests.length} requests${foreign.length ? `; foreign: ${foreign.join(', ')}` : ''})`);
     const unexpected = consoleErrors.filter((m) => !/status of 400/.test(m));
     check(unexpected.length === 0, `no console errors but the refused request's (${unexpected.join(' | ') || 'none'})`);
-    writeFileSync(join(outDir, 'viewer-state.json'), JSON.stringify({ first, added, removed, hidden, opened }, null, 1));
+    writeFileSync(join(outDir, 'viewer-state.json'), JSON.stringify({ first, added, removed, hidden, opened, last }, null, 1));
     console.log(`viewer test: ${checks} checks passed in ${((Date.now() - started) / 1000).toFixed(1)} s; screenshot ${join(outDir, 'viewer.png')}`);
   } finally {
     await browser.close();
