@@ -263,8 +263,27 @@ function seamParams() {
     draco: false, // the page decodes the cut asset without a Draco decoder
     output: 'json',
   };
+  // The hiding parameters go only with hiding asked for: a server without them still answers
+  // every other request.
   if (state.hideFrom.length) p.hide_from = state.hideFrom;
+  if ($('occluded').checked) p.hide_occluded = true;
+  const strength = Number($('strength').value);
+  if ((state.hideFrom.length || p.hide_occluded) && Number.isFinite(strength) && strength !== 4) p.hide_strength = strength;
   return p;
+}
+
+function seamForm(params) {
+  const form = new FormData();
+  form.append('mesh', new Blob([state.asset], { type: 'application/octet-stream' }), state.assetName || 'asset');
+  form.append('params', JSON.stringify(params));
+  return form;
+}
+
+// A server error body as the page shows it.
+async function errorOf(res) {
+  const body = await res.json().catch(() => null);
+  const err = body?.error ?? { code: 'http_error', message: `HTTP ${res.status}` };
+  return { status: res.status, code: err.code, message: err.message, details: err.details };
 }
 
 async function compute() {
@@ -277,13 +296,10 @@ async function compute() {
   publish();
   const params = seamParams();
   state.lastParams = params;
-  const form = new FormData();
-  form.append('mesh', new Blob([state.asset], { type: 'application/octet-stream' }), state.assetName || 'asset');
-  form.append('params', JSON.stringify(params));
   let res, body;
   try {
-    res = await fetch('/seam', { method: 'POST', body: form, signal: abort.signal });
-    body = await res.json().catch(() => null);
+    res = await fetch('/seam', { method: 'POST', body: seamForm(params), signal: abort.signal });
+    body = res.ok ? await res.json() : await errorOf(res);
   } catch (e) {
     if (abort.signal.aborted) return;
     return showError({ message: `the request failed: ${e.message}` });
@@ -291,10 +307,7 @@ async function compute() {
   if (inFlight !== abort) return; // a newer request replaced this one
   inFlight = null;
   state.requests += 1;
-  if (!res.ok) {
-    const err = body?.error ?? { code: 'http_error', message: `HTTP ${res.status}` };
-    return showError({ status: res.status, code: err.code, message: err.message, details: err.details });
-  }
+  if (!res.ok) return showError(body);
   try {
     await showResult(body);
   } catch (e) {
@@ -329,6 +342,7 @@ async function showResult(body) {
   drawOverlay(p.seam);
   cutGlb = body.asset?.glb_base64 ? base64Bytes(body.asset.glb_base64) : null;
   $('download').disabled = !cutGlb;
+  $('svg').disabled = false;
   state.uvChannel = p.uv?.channel ?? -1;
   await showCut(p.uv);
   showStats(p, body);
@@ -599,13 +613,28 @@ $('unhide').addEventListener('click', () => {
   $('unhide').hidden = true;
   compute();
 });
-$('download').addEventListener('click', () => {
-  if (!cutGlb) return;
+function saveBlob(blob, suffix) {
   const a = document.createElement('a');
-  a.href = URL.createObjectURL(new Blob([cutGlb], { type: 'model/gltf-binary' }));
-  a.download = `${state.assetName.replace(/\.[^.]*$/, '') || 'asset'}-cut.glb`;
+  a.href = URL.createObjectURL(blob);
+  a.download = `${state.assetName.replace(/\.[^.]*$/, '') || 'asset'}${suffix}`;
   a.click();
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+$('download').addEventListener('click', () => {
+  if (cutGlb) saveBlob(new Blob([cutGlb], { type: 'model/gltf-binary' }), '-cut.glb');
+});
+// The UV layout as the server draws it (output "svg"): the same request, another output.
+$('svg').addEventListener('click', async () => {
+  if (!state.asset || !state.lastParams) return;
+  clearError();
+  const params = { ...state.lastParams, output: 'svg' };
+  try {
+    const res = await fetch('/seam', { method: 'POST', body: seamForm(params) });
+    if (!res.ok) return showError(await errorOf(res));
+    saveBlob(new Blob([await res.text()], { type: 'image/svg+xml' }), '-uv.svg');
+  } catch (e) {
+    showError({ message: `the request failed: ${e.message}` });
+  }
 });
 view.addEventListener('dragover', (e) => { e.preventDefault(); view.classList.add('drop'); });
 view.addEventListener('dragleave', () => view.classList.remove('drop'));

@@ -183,6 +183,27 @@ async function run() {
     check(download.suggestedFilename() === 'sample-cut.glb' && glb.subarray(0, 4).toString() === 'glTF',
       `the cut GLB downloads (${download.suggestedFilename()}, ${glb.length} bytes)`);
 
+    // "UV layout SVG": the same request with output "svg"; the page saves the server's SVG or
+    // shows its refusal (a server without output "svg" refuses it).
+    const svgExpected = await fetch(`${base}/seam`, { method: 'POST', body: (() => {
+      const f = new FormData();
+      f.append('mesh', new Blob([asset]), 'asset.glb');
+      f.append('params', JSON.stringify({ ...removed.params, output: 'svg' }));
+      return f;
+    })() });
+    const svgText = await svgExpected.text();
+    if (svgExpected.status === 200) {
+      const [svgDownload] = await Promise.all([page.waitForEvent('download'), page.click('#svg')]);
+      const svg = readFileSync(await svgDownload.path(), 'utf8');
+      check(svgDownload.suggestedFilename() === 'sample-uv.svg' && svg === svgText && svg.includes('<polygon'),
+        `the UV layout SVG downloads (${svg.length} bytes, the server's)`);
+    } else {
+      await page.click('#svg');
+      await page.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 30000 });
+      const shown = await page.locator('#error').innerText();
+      check(shown.includes(JSON.parse(svgText).error.message), `output svg: the server's refusal is shown: "${shown}"`);
+    }
+
     // "Hide seam from this view": the page sends hide_from and shows what the server says.
     await page.click('#hide');
     const hidden = await waitAnswered(page, removed.requests);
