@@ -5,7 +5,7 @@
 // Per mesh: seeded random terminal sets (k = 3..8, any non-boundary vertex) and the
 // farthest-point extrema rows (k = 4, 6, 8). Variants, each divided by `optimal` (method
 // kOptimal, Dreyfus–Wagner):
-//   paper   skeleton, refine off, improve off, exact off (the paper's seam)
+//   paper   skeleton, refine: false (the paper's seam)
 //   before  skeleton, refine on (as before issue 16)
 //   impr    skeleton, improve only (no refine), exact off
 //   heur    skeleton, improve + refine, exact off (the heuristic alone)
@@ -44,10 +44,10 @@ struct Variant {
 
 std::vector<Variant> variants() {
   return {
-      {"paper", SeamOptions{.refine = false, .improve = false, .exact_budget = 0}},
-      {"before", SeamOptions{.refine = true, .improve = false, .exact_budget = 0}},
-      {"impr", SeamOptions{.refine = false, .improve = true, .exact_budget = 0}},
-      {"heur", SeamOptions{.refine = true, .improve = true, .exact_budget = 0}},
+      {"paper", SeamOptions{.refine = false}},
+      {"before", SeamOptions{.refine = true, .improve = false, .local_refine = true, .exact_budget = 0}},
+      {"impr", SeamOptions{.refine = true, .improve = true, .local_refine = false, .exact_budget = 0}},
+      {"heur", SeamOptions{.refine = true, .improve = true, .local_refine = true, .exact_budget = 0}},
       {"after", SeamOptions{}},
   };
 }

@@ -25,7 +25,10 @@ struct ImproveOptions {
   /// vertex count (0: unbounded). Moves stop (keeping what they gained) once it is spent, so
   /// the improvement costs at most about this many full Dijkstra runs. Longest key paths are
   /// tried first, so the budget goes where most is to gain.
-  double max_work = 3.0;
+  /// 8 (measured, seam_quality_bench): with 3 the moves stopped early on small meshes (hand
+  /// random sets 1.0038 -> 1.069 of the optimum); unbounded, two runs cost up to 3x the
+  /// refinement on 80k faces.
+  double max_work = 8.0;
 };
 
 struct ImproveStats {

@@ -109,7 +109,8 @@ struct MethodTree {
 
 // Whether the skeleton method should return the exact optimum (SeamOptions::exact_budget).
 bool exact_is_cheap(const SeamOptions& options, std::size_t terminals, std::size_t vertices) {
-  if (options.method != SeamMethod::kSkeleton || terminals > options.optimal_max_terminals || terminals > 30) {
+  if (options.method != SeamMethod::kSkeleton || !options.refine || terminals > options.optimal_max_terminals ||
+      terminals > 30) {
     return false;
   }
   const double rows = static_cast<double>(std::size_t{1} << (terminals - 1));
@@ -154,7 +155,9 @@ Result<MethodTree> run_method(const HalfedgeMesh& work, std::span<const double> 
     if (options.method == SeamMethod::kSkeleton) {
       SEAM_TRY(SkeletonResult skeleton,
                skeleton_seam(work, graph, weights, paths,
-                             SkeletonOptions{.refine = options.refine, .improve = options.improve}, cancel));
+                             SkeletonOptions{.refine = options.refine && options.local_refine,
+                                             .improve = options.refine && options.improve},
+                             cancel));
       tree = std::move(skeleton.tree);
     } else {
       SEAM_TRY(tree, mst_seam(work, graph, weights, paths, cancel));

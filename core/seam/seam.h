@@ -24,17 +24,23 @@ const char* seam_method_name(SeamMethod method);
 
 struct SeamOptions {
   SeamMethod method = SeamMethod::kSkeleton;
-  /// Skeleton only: shorten the straightened skeleton while keeping every extremum a leaf.
+  /// Skeleton only: shorten the straightened skeleton while keeping every extremum a leaf,
+  /// by the three steps below. false: the paper's seam as it is (none of them).
   bool refine = true;
-  /// Skeleton only: move whole branches by key-path exchange and key-vertex elimination
-  /// (core/seam/improve.h) after the refinement.
+  /// With refine: move whole branches by key-path exchange and key-vertex elimination
+  /// (core/seam/improve.h), after the local refinement and on its own, keeping the shorter.
   bool improve = true;
-  /// Skeleton only: when the exact optimum is cheap, return it instead (SeamResult::optimal).
+  /// With refine: the local exact re-optimisation of pieces (core/seam/refine.h).
+  bool local_refine = true;
+  /// With refine: when the exact optimum is cheap, return it instead (SeamResult::optimal).
   /// Its cost is estimated as 2^(k-1) x V (k terminals on the component, boundary terminal
   /// included; V its vertices): the Dreyfus–Wagner rows, each one Dijkstra. The exact seam is
-  /// used when that is at most this and k <= optimal_max_terminals. 0: never. The default
-  /// admits 8 terminals on 5000 vertices (about 10k faces), measured at ~110 ms.
-  double exact_budget = 640000;
+  /// used when that is at most this and k <= optimal_max_terminals. 0: never. The table takes
+  /// 12 bytes per unit (at most 60 MB at the default). The default admits 8 terminals on 39k
+  /// vertices (~78k faces), 6 on 156k, 4 on 625k; measured (seam_quality_bench) the exact seam
+  /// then costs about as much as the refinement it replaces up to ~20k faces, and less
+  /// than 2x it at 52k-75k faces.
+  double exact_budget = 5.0e6;
   /// kOptimal refuses more terminals per component than this (kTooManyTerminals).
   std::size_t optimal_max_terminals = 10;
   /// Threads for the per-terminal Dijkstra runs (0 = hardware concurrency).
