@@ -212,6 +212,22 @@ async function toGlb(name, buffer) {
   return new GLTFExporter().parseAsync(mesh, { binary: true });
 }
 
+let associations = new Map(); // three object -> {meshes, primitives} of the loaded asset
+const associationOf = (o) => {
+  const a = associations.get(o);
+  return a && a.meshes !== undefined ? a : null;
+};
+
+// The primitive being cut is drawn plain grey (its seam and markers stand out on it).
+function useAsTarget(object) {
+  inputMesh = object;
+  if (!inputMesh.geometry.attributes.normal) inputMesh.geometry.computeVertexNormals();
+  inputMesh.material = new THREE.MeshStandardMaterial({
+    color: 0xb8bcc4, roughness: 0.8, side: THREE.DoubleSide,
+    polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+  });
+}
+
 async function loadAsset(name, buffer) {
   clearError();
   state.assetName = name;
@@ -232,12 +248,8 @@ async function loadAsset(name, buffer) {
   $('download').disabled = true;
   assetRoot = gltf.scene;
   scene.add(assetRoot);
-  inputMesh = target.object;
-  if (!inputMesh.geometry.attributes.normal) inputMesh.geometry.computeVertexNormals();
-  inputMesh.material = new THREE.MeshStandardMaterial({
-    color: 0xb8bcc4, roughness: 0.8, side: THREE.DoubleSide,
-    polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
-  });
+  associations = gltf.parser.associations;
+  useAsTarget(target.object);
   state.asset = new Uint8Array(buffer);
   state.target = { mesh: target.mesh, primitive: target.primitive };
   state.extrema = [];
@@ -545,16 +557,29 @@ function onClick(event) {
     state.extrema = state.extrema.filter((v) => v !== hitMarker.object.userData.vertex);
     return compute();
   }
-  const hit = raycaster.intersectObject(inputMesh, false)[0];
-  if (!hit || !hit.face) return;
-  // The nearest corner of the clicked triangle, compared in world space.
+  const hit = raycaster.intersectObject(assetRoot, true).find((h) => h.object.isMesh && h.face && associationOf(h.object));
+  if (!hit) return;
+  const a = associationOf(hit.object);
+  if (a.meshes !== state.target.mesh || (a.primitives ?? 0) !== state.target.primitive) return switchTarget(hit.object, a);
+  // The nearest corner of the clicked triangle, compared in world space (the hit may be
+  // another instance of the target's glTF mesh).
   let best = -1, bestD = Infinity;
   for (const v of [hit.face.a, hit.face.b, hit.face.c]) {
-    const d = inputMesh.localToWorld(vertexPosition(v)).distanceTo(hit.point);
+    const d = hit.object.localToWorld(new THREE.Vector3().fromBufferAttribute(hit.object.geometry.attributes.position, v)).distanceTo(hit.point);
     if (d < bestD) { bestD = d; best = v; }
   }
   if (state.extrema.includes(best)) return;
   state.extrema = [...state.extrema, best];
+  compute();
+}
+
+// A click on another triangle primitive of the asset makes it the one cut, with automatic
+// extrema (the extrema are that primitive's POSITION indices).
+function switchTarget(object, a) {
+  if (inputMesh) inputMesh.visible = true;
+  useAsTarget(object);
+  state.target = { mesh: a.meshes, primitive: a.primitives ?? 0 };
+  state.extrema = [];
   compute();
 }
 
