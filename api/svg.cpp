@@ -125,6 +125,32 @@ void append_layout(std::string& out, const UvLayout& l, const SvgOptions& o) {
 
 }  // namespace
 
+std::vector<std::array<std::uint32_t, 2>> boundary_edges(const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+  // (edge, position of first use) sorted by edge: runs of one are boundary edges.
+  std::vector<std::pair<std::array<std::uint32_t, 2>, std::size_t>> uses;
+  uses.reserve(3 * triangles.size());
+  for (const auto& t : triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = t[k];
+      const auto b = t[(k + 1) % 3];
+      uses.push_back({{std::min(a, b), std::max(a, b)}, uses.size()});
+    }
+  }
+  std::sort(uses.begin(), uses.end());
+  std::vector<std::pair<std::size_t, std::array<std::uint32_t, 2>>> once;
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i + 1;
+    while (j < uses.size() && uses[j].first == uses[i].first) ++j;
+    if (j - i == 1) once.push_back({uses[i].second, uses[i].first});
+    i = j;
+  }
+  std::sort(once.begin(), once.end());
+  std::vector<std::array<std::uint32_t, 2>> out;
+  out.reserve(once.size());
+  for (const auto& [at, edge] : once) out.push_back(edge);
+  return out;
+}
+
 std::string xml_escape(const std::string& text) {
   std::string out;
   out.reserve(text.size());

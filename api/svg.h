@@ -39,6 +39,12 @@ struct SvgOptions {
 /// not the client's input). O(V + F + seam edges) time and output size.
 ApiResult<std::string> render_uv_svg(const std::vector<UvLayout>& layouts, const SvgOptions& options = {});
 
+/// The edges of `triangles` that only one triangle uses, as index pairs (smaller first, in
+/// order of first use): on a cut primitive, the chart boundaries, i.e. both sides of every
+/// seam edge plus the surface's own boundary. A UvLayout's seam_edges when the caller has no
+/// finer list. O(F log F).
+std::vector<std::array<std::uint32_t, 2>> boundary_edges(const std::vector<std::array<std::uint32_t, 3>>& triangles);
+
 /// Escapes text for an XML attribute or text node (&, <, >, ", ' ); invalid UTF-8 bytes and
 /// control characters other than tab and newline become U+FFFD, which XML allows.
 std::string xml_escape(const std::string& text);

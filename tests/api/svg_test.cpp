@@ -206,3 +206,22 @@ TEST_CASE("xml_escape: markup characters, control bytes and invalid UTF-8") {
   CHECK(xml_escape("\xFF\xC3") == "\xEF\xBF\xBD\xEF\xBF\xBD");
   CHECK(xml_escape("\xED\xA0\x80") == "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");  // a UTF-16 surrogate
 }
+
+TEST_CASE("boundary_edges: edges used by one triangle, in order of first use") {
+  using seam::api::boundary_edges;
+  // The quad of two_charts(): its diagonal 0-2 is shared, the four sides are the boundary.
+  const auto quad = boundary_edges({{0, 1, 2}, {0, 2, 3}});
+  CHECK(quad == std::vector<std::array<std::uint32_t, 2>>{{0, 1}, {1, 2}, {2, 3}, {0, 3}});
+  // A closed tetrahedron has none; an empty list has none.
+  CHECK(boundary_edges({{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}}).empty());
+  CHECK(boundary_edges({}).empty());
+  // As seam_edges of a layout, they draw the chart outline.
+  UvLayout layout = two_charts();
+  layout.seam_edges = boundary_edges(layout.triangles);
+  const auto svg = render_uv_svg({layout}, {.size_px = 10});
+  REQUIRE(svg.ok());
+  const auto paths = named(parse_tags(svg.value()), "path");
+  REQUIRE(paths.size() == 1);
+  const auto& d = paths[0].attributes.at("d");
+  CHECK(std::count(d.begin(), d.end(), 'M') == 7);  // 4 quad sides + 3 triangle sides
+}
