@@ -13,7 +13,8 @@
 // Seam-stage time = paths + method (ms, summed over the rows of a mesh), measured in one
 // process with the variants run back to back per row; other sessions share the 2 cores, so
 // compare the ratios, not the absolute figures.
-//   ./bench/seam_quality_bench [--quick] [--verbose] [--sets N] [--mesh NAME] [--speed | --no-speed]
+//   ./bench/seam_quality_bench [--quick] [--verbose] [--sets N] [--mesh NAME] [--speed | --no-speed | --large]
+//   --large: the seam stage at 1.25M faces with 16 extrema (one run per variant)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -155,7 +156,7 @@ void run_mesh(const MeshSpec& spec, std::size_t sets, std::vector<Tally>& overal
 
 // Issue 14 item 2: the seam stage (paths + method) of each variant against the paper's, on
 // subdivided meshes of 10k..80k faces, best of 3 with the variants interleaved per repetition.
-void speed_table(bool quick) {
+void speed_table(bool quick, bool large) {
   std::printf("\n## Seam-stage time (ms, best of 3, variants interleaved) and ratio to the paper's seam (target "
               "<= 2.0)\n\n");
   std::printf("| mesh | faces | k | paper ms | before x | impr x | heur x | after x | after optimal | impr/paper len | "
@@ -167,16 +168,17 @@ void speed_table(bool quick) {
   };
   std::vector<Size> sizes = {{"hand", 9000}, {"camel", 19000}, {"dino", 30000}, {"camel", 70000}};
   if (quick) sizes.resize(1);
+  if (large) sizes = {{"camel", 1000000}};
   const auto vars = variants();
   for (const auto& size : sizes) {
     const HalfedgeMesh mesh =
         bench::build_welded(bench::spatially_ordered(bench::subdivide_to(bench::load_cgal(size.name), size.faces)));
     const EdgeGraph graph = build_edge_graph(mesh);
-    for (std::size_t k : {4u, 8u}) {
+    for (std::size_t k : large ? std::vector<std::size_t>{16} : std::vector<std::size_t>{4, 8}) {
       const auto extrema = fixtures::farthest_point_extrema(mesh, graph, k);
       std::vector<double> best(vars.size(), 1e300), length(vars.size(), 0);
       bool after_optimal = false;
-      for (int rep = 0; rep < 3; ++rep) {
+      for (int rep = 0; rep < (large ? 1 : 3); ++rep) {
         for (std::size_t i = 0; i < vars.size(); ++i) {
           auto r = compute_seam(mesh, extrema, vars[i].options);
           if (!r.ok()) {
@@ -199,13 +201,14 @@ void speed_table(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, speed_only = false, no_speed = false;
+  bool quick = false, speed_only = false, no_speed = false, large = false;
   std::size_t sets = 12;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) quick = true;
     if (std::strcmp(argv[i], "--verbose") == 0) g_verbose = true;
     if (std::strcmp(argv[i], "--speed") == 0) speed_only = true;
+    if (std::strcmp(argv[i], "--large") == 0) speed_only = large = true;
     if (std::strcmp(argv[i], "--no-speed") == 0) no_speed = true;
     if (std::strcmp(argv[i], "--sets") == 0 && i + 1 < argc) sets = std::stoul(argv[++i]);
     if (std::strcmp(argv[i], "--mesh") == 0 && i + 1 < argc) only = argv[++i];
@@ -226,7 +229,7 @@ int main(int argc, char** argv) {
   const auto vars = variants();
   std::vector<Tally> overall(vars.size());
   if (speed_only) {
-    speed_table(quick);
+    speed_table(quick, large);
     return 0;
   }
   for (const auto& spec : meshes) run_mesh(spec, sets, overall);
@@ -239,6 +242,6 @@ int main(int argc, char** argv) {
                 t.mean(), t.above(1.01), t.above(1.03), t.worst() <= kTargetWorst ? "met" : "MISSED",
                 t.mean() <= kTargetMean ? "met" : "MISSED");
   }
-  if (!no_speed && only.empty()) speed_table(quick);
+  if (!no_speed && only.empty()) speed_table(quick, false);
   return 0;
 }
