@@ -341,6 +341,7 @@ function primitiveEntry(body) {
     cut: entry?.cut ?? body.cut,
     topology: entry?.topology ?? body.mesh,
     timings: entry?.timings_ms ?? body.timings_ms ?? {},
+    repairs: entry?.repairs ?? body.repairs,
   };
 }
 
@@ -520,10 +521,11 @@ function showStats(p, body) {
   if (p.seam.visible_length !== undefined) rows.push(['visible length', p.seam.visible_length]);
   if (p.topology) rows.push(['faces', p.topology.faces], ['genus', p.topology.genus]);
   if (p.uv) {
-    for (const k of ['channel', 'area_distortion', 'angle_distortion', 'flipped']) {
+    for (const k of ['channel', 'area_distortion', 'angle_distortion', 'flipped', 'coverage', 'overlap_area']) {
       if (p.uv[k] !== undefined) rows.push([`uv ${k.replace('_', ' ')}`, p.uv[k]]);
     }
   }
+  for (const [k, v] of Object.entries(p.repairs ?? {})) if (v) rows.push([`repaired ${k.replaceAll('_', ' ')}`, v]);
   const timings = body.timings_ms ?? p.timings;
   for (const [k, v] of Object.entries(timings)) rows.push([`${k} ms`, v]);
   const table = $('stats');
