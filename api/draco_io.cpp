@@ -6,8 +6,11 @@
 #include <optional>
 #include <type_traits>
 
+#include <draco/attributes/attribute_octahedron_transform.h>
+#include <draco/attributes/attribute_quantization_transform.h>
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
+#include <draco/compression/expert_encode.h>
 #include <draco/compression/mesh/mesh_edgebreaker_decoder.h>
 #include <draco/compression/mesh/mesh_sequential_decoder.h>
 #include <draco/core/varint_decoding.h>
@@ -181,10 +184,17 @@ class BoundedMeshDecoder : public Base {
 };
 
 template <class Decoder>
-ApiResult<std::unique_ptr<draco::Mesh>> decode_bounded(draco::DecoderBuffer& buffer, const ReadLimits& limits) {
+ApiResult<std::unique_ptr<draco::Mesh>> decode_bounded(draco::DecoderBuffer& buffer, const ReadLimits& limits,
+                                                       bool skip_transforms) {
   Decoder decoder(limits);
   auto mesh = std::make_unique<draco::Mesh>();
-  const draco::DecoderOptions options;
+  draco::DecoderOptions options;
+  if (skip_transforms) {
+    for (auto type : {draco::GeometryAttribute::POSITION, draco::GeometryAttribute::NORMAL, draco::GeometryAttribute::COLOR,
+                      draco::GeometryAttribute::TEX_COORD, draco::GeometryAttribute::GENERIC}) {
+      options.SetAttributeBool(type, "skip_attribute_transform", true);
+    }
+  }
   const draco::Status status = decoder.Decode(options, &buffer, mesh.get());
   if (decoder.refusal()) return *decoder.refusal();
   if (!status.ok()) return malformed("Draco decode failed: " + status.error_msg_string());
@@ -192,16 +202,17 @@ ApiResult<std::unique_ptr<draco::Mesh>> decode_bounded(draco::DecoderBuffer& buf
 }
 
 // draco::Decoder::DecodeMeshFromBuffer with our decoders in place of draco's.
-ApiResult<std::unique_ptr<draco::Mesh>> decode_mesh(draco::DecoderBuffer& buffer, const ReadLimits& limits) {
+ApiResult<std::unique_ptr<draco::Mesh>> decode_mesh(draco::DecoderBuffer& buffer, const ReadLimits& limits,
+                                                    bool skip_transforms = false) {
   draco::DecoderBuffer header_buffer(buffer);
   draco::DracoHeader header;
   const draco::Status status = draco::PointCloudDecoder::DecodeHeader(&header_buffer, &header);
   if (!status.ok()) return malformed("Draco: " + status.error_msg_string());
   switch (header.encoder_method) {
     case draco::MESH_SEQUENTIAL_ENCODING:
-      return decode_bounded<BoundedMeshDecoder<draco::MeshSequentialDecoder>>(buffer, limits);
+      return decode_bounded<BoundedMeshDecoder<draco::MeshSequentialDecoder>>(buffer, limits, skip_transforms);
     case draco::MESH_EDGEBREAKER_ENCODING:
-      return decode_bounded<BoundedMeshDecoder<draco::MeshEdgebreakerDecoder>>(buffer, limits);
+      return decode_bounded<BoundedMeshDecoder<draco::MeshEdgebreakerDecoder>>(buffer, limits, skip_transforms);
     default: return malformed("Draco: unknown mesh encoding method " + std::to_string(header.encoder_method));
   }
 }
@@ -218,6 +229,30 @@ bool convert_all(const draco::PointAttribute& attribute, std::size_t num_points,
     std::memcpy(out.data() + p * sizeof(T) * components, value, sizeof(T) * components);
   }
   return true;
+}
+
+// The input's quantization where the attribute had one, else the options' bits per semantic
+// (0 = lossless).
+void set_quantization(draco::ExpertEncoder& encoder, int id, const AttributeArray& a, const DracoEncodeOptions& options) {
+  if (a.component_type != 5126) return;  // integer data is stored as it is
+  const auto kept = std::find_if(options.keep.begin(), options.keep.end(),
+                                 [&](const DracoQuantization& q) { return q.name == a.name; });
+  if (kept != options.keep.end() && kept->bits > 0) {
+    // Bits only: draco then takes the grid's origin and extent from the values, which lie on
+    // the input's grid, and stores them as floats. (An explicit origin and range would pass
+    // through draco's option strings, printed with 6 decimals, and move the grid.)
+    encoder.SetAttributeQuantization(id, kept->bits);
+    return;
+  }
+  int bits = 0;
+  switch (draco_semantic(a.name)) {
+    case draco::GeometryAttribute::POSITION: bits = options.position_bits; break;
+    case draco::GeometryAttribute::TEX_COORD: bits = options.texcoord_bits; break;
+    case draco::GeometryAttribute::NORMAL: bits = options.normal_bits; break;
+    case draco::GeometryAttribute::GENERIC: bits = options.generic_bits; break;
+    default: break;
+  }
+  if (bits > 0) encoder.SetAttributeQuantization(id, bits);
 }
 
 core::Result<EncodedDraco, std::string> encode_once(std::span<const AttributeArray> attributes,
@@ -249,24 +284,48 @@ core::Result<EncodedDraco, std::string> encode_once(std::span<const AttributeArr
     }
     result.unique_ids.push_back(pa->unique_id());
   }
-  draco::Encoder encoder;
+  draco::ExpertEncoder encoder(mesh);
   encoder.SetSpeedOptions(options.speed, options.speed);
-  if (options.position_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, options.position_bits);
-  if (options.texcoord_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, options.texcoord_bits);
-  if (options.normal_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, options.normal_bits);
-  if (options.generic_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, options.generic_bits);
+  for (std::size_t i = 0; i < attributes.size(); ++i) set_quantization(encoder, static_cast<int>(i), attributes[i], options);
   encoder.SetEncodingMethod(sequential ? draco::MESH_SEQUENTIAL_ENCODING : draco::MESH_EDGEBREAKER_ENCODING);
   draco::EncoderBuffer buffer;
-  const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+  const draco::Status status = encoder.EncodeToBuffer(&buffer);
   if (!status.ok()) return std::string("draco encode failed: ") + status.error_msg_string();
   result.bytes.assign(buffer.data(), buffer.size());
   result.sequential = sequential;
   return result;
 }
 
+// The payload decoded once more without attribute transforms: each quantized attribute then
+// carries its transform's parameters.
+ApiResult<std::vector<DracoQuantization>> read_quantization(std::span<const std::uint8_t> bytes, const ReadLimits& limits) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  SEAM_TRY(const std::unique_ptr<draco::Mesh> raw, decode_mesh(buffer, limits, true));
+  std::vector<DracoQuantization> out;
+  for (int i = 0; i < raw->num_attributes(); ++i) {
+    const draco::PointAttribute* a = raw->attribute(i);
+    if (a == nullptr || a->GetAttributeTransformData() == nullptr) continue;
+    DracoQuantization q;
+    q.unique_id = a->unique_id();
+    draco::AttributeQuantizationTransform grid;
+    draco::AttributeOctahedronTransform octahedron;
+    if (grid.InitFromAttribute(*a)) {
+      q.bits = grid.quantization_bits();
+    } else if (octahedron.InitFromAttribute(*a)) {
+      q.bits = octahedron.quantization_bits();
+      q.octahedral = true;
+    } else {
+      continue;
+    }
+    out.push_back(std::move(q));
+  }
+  return out;
+}
+
 }  // namespace
 
-ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const ReadLimits& limits) {
+ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const ReadLimits& limits, bool quantization) {
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
@@ -308,6 +367,9 @@ ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const Rea
                                                 a->normalized()});
   }
   out.mesh = std::move(mesh);
+  if (quantization) {
+    SEAM_TRY(out.quantization, read_quantization(bytes, limits));
+  }
   return out;
 }
 

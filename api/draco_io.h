@@ -32,6 +32,7 @@ struct DracoMesh {
   std::size_t num_points = 0;
   std::vector<core::Triangle> triangles;
   std::vector<DracoAttributeInfo> attributes;
+  std::vector<DracoQuantization> quantization;  ///< quantized attributes (with read_quantization)
   std::shared_ptr<const draco::Mesh> mesh;  ///< owns the decoded data
 };
 
@@ -45,7 +46,10 @@ struct DracoMesh {
 /// kNoTrianglePrimitive (a point cloud), kMeshTooLarge (more than limits.max_faces faces,
 /// more than limits.max_vertices points or 3 per face, more attribute bytes per point than
 /// limits.max_draco_bytes_per_point), kEmptyMesh (no faces). O(bytes + points + faces).
-ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const ReadLimits& limits = {});
+/// With read_quantization, the payload is decoded a second time without the attribute
+/// transforms to read each quantized attribute's parameters (DracoMesh::quantization).
+ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const ReadLimits& limits = {},
+                                  bool read_quantization = false);
 
 /// Reads attribute `unique_id` converted to `component_type` with `components` values per
 /// point, one element per point in point order. Errors: kMalformedAsset (no such attribute,
@@ -62,6 +66,10 @@ struct DracoEncodeOptions {
   int normal_bits = 0;
   int generic_bits = 0;
   int speed = 5;  ///< draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
+  /// Per attribute (by glTF name), the input's quantization bits to keep; they override the bits
+  /// above. Values decoded from a grid span it, so draco re-derives the same grid from them
+  /// and they decode bit-exactly again (tests/api/asset_set_test.cpp checks it).
+  std::vector<DracoQuantization> keep;
   /// Keep point i as decoded point i (sequential encoding, verified). Needed when data
   /// outside the Draco blob (morph targets) is indexed by vertex. Costs compression.
   bool preserve_point_order = false;

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <optional>
 
+#include "api/base64.h"
 #include "api/draco_io.h"
 #include "api/json_limits.h"
 
@@ -94,7 +95,9 @@ ApiResult<std::vector<std::uint8_t>> decode_data_uri(const std::string& uri, con
     return malformed(where + ": only base64 data URIs are supported");
   }
   std::vector<std::uint8_t> out;
-  if (!decode_base64(std::string_view(uri).substr(comma + 1), out)) return malformed(where + ": bad base64 in data URI");
+  auto decoded = decode_base64(std::string_view(uri).substr(comma + 1));
+  if (!decoded.ok()) return malformed(where + ": bad base64 in data URI: " + decoded.error().describe());
+  out.assign(decoded->begin(), decoded->end());
   return out;
 }
 
@@ -587,7 +590,7 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
       const auto ea = d->find("attributes");
       if (ea == d->end() || !ea->is_object()) return malformed(dw + ".attributes must be an object");
       SEAM_TRY(DracoMesh decoded,
-               decode_draco(std::span(doc.buffers[view.buffer].data() + view.offset, view.length), limits));
+               decode_draco(std::span(doc.buffers[view.buffer].data() + view.offset, view.length), limits, true));
       draco_mesh = std::move(decoded);
       out.draco = true;
     }
@@ -616,6 +619,11 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
       SEAM_TRY(AttributeArray a, read_draco_attribute(*draco_mesh, static_cast<std::uint32_t>(*uid), info.component_type,
                                                       info.components, info.normalized, it.key()));
       a.type = info.type;
+      for (const auto& q : draco_mesh->quantization) {
+        if (q.unique_id != *uid) continue;
+        out.draco_quantization.push_back(q);
+        out.draco_quantization.back().name = it.key();
+      }
       out.attributes.push_back(std::move(a));
     } else {
       SEAM_TRY(AttributeArray a, read_accessor(doc, acc, it.key(), limits));
@@ -729,61 +737,6 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
                                                            std::to_string(limits.max_faces));
   }
   if (out.mesh.triangles.empty()) return make_api_error(ApiErrorCode::kEmptyMesh, pw + " has no triangles");
-  return out;
-}
-
-bool decode_base64(std::string_view text, std::vector<std::uint8_t>& out) {
-  static constexpr auto kTable = [] {
-    std::array<std::int8_t, 256> t{};
-    t.fill(-1);
-    const char* chars = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    for (int i = 0; i < 64; ++i) t[static_cast<unsigned char>(chars[i])] = static_cast<std::int8_t>(i);
-    return t;
-  }();
-  while (!text.empty() && text.back() == '=') text.remove_suffix(1);
-  if (text.size() % 4 == 1) return false;
-  out.clear();
-  out.reserve(text.size() / 4 * 3 + 3);
-  std::uint32_t acc = 0;
-  int bits = 0;
-  for (char c : text) {
-    const std::int8_t v = kTable[static_cast<unsigned char>(c)];
-    if (v < 0) return false;
-    acc = (acc << 6) | static_cast<std::uint32_t>(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<std::uint8_t>((acc >> bits) & 0xff));
-    }
-  }
-  return true;
-}
-
-std::string encode_base64(std::string_view bytes) {
-  static constexpr char kChars[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const std::uint32_t v = (static_cast<std::uint8_t>(bytes[i]) << 16) | (static_cast<std::uint8_t>(bytes[i + 1]) << 8) |
-                            static_cast<std::uint8_t>(bytes[i + 2]);
-    out += kChars[(v >> 18) & 63];
-    out += kChars[(v >> 12) & 63];
-    out += kChars[(v >> 6) & 63];
-    out += kChars[v & 63];
-  }
-  if (i + 1 == bytes.size()) {
-    const std::uint32_t v = static_cast<std::uint8_t>(bytes[i]) << 16;
-    out += kChars[(v >> 18) & 63];
-    out += kChars[(v >> 12) & 63];
-    out += "==";
-  } else if (i + 2 == bytes.size()) {
-    const std::uint32_t v = (static_cast<std::uint8_t>(bytes[i]) << 16) | (static_cast<std::uint8_t>(bytes[i + 1]) << 8);
-    out += kChars[(v >> 18) & 63];
-    out += kChars[(v >> 12) & 63];
-    out += kChars[(v >> 6) & 63];
-    out += '=';
-  }
   return out;
 }
 

@@ -18,10 +18,14 @@
 #include <nlohmann/json.hpp>
 
 #include "api/error.h"
-#include "api/pipeline.h"
 #include "core/mesh/types.h"
 
+
 namespace seam::api {
+
+/// What kind of bytes the asset is. kAuto sniffs: "glTF" magic = GLB, '{' = glTF JSON,
+/// "DRACO" magic = raw Draco mesh.
+enum class AssetKind { kAuto, kGlb, kGltfJson, kDraco };
 
 /// Caps applied before any allocation sized by a number declared in the asset.
 struct ReadLimits {
@@ -57,6 +61,15 @@ struct AttributeArray {
   std::size_t element_size() const { return component_size() * static_cast<std::size_t>(components); }
 };
 
+/// How a Draco payload quantized one attribute, so a re-encode can keep it: positions,
+/// texture coordinates and generic attributes on a uniform grid, normals on the octahedron.
+struct DracoQuantization {
+  std::uint32_t unique_id = 0;
+  std::string name;  ///< the glTF attribute it feeds (read_primitive fills it)
+  int bits = 0;
+  bool octahedral = false;
+};
+
 /// The selected primitive: positions as doubles (dequantized), triangles in input vertex
 /// indices (strips and fans converted), and every attribute and morph target.
 struct PrimitiveData {
@@ -64,6 +77,7 @@ struct PrimitiveData {
   std::vector<AttributeArray> attributes;            ///< every attribute, POSITION included
   std::vector<std::vector<AttributeArray>> targets;  ///< morph targets, same vertex count
   bool draco = false;                                ///< the primitive was Draco-compressed
+  std::vector<DracoQuantization> draco_quantization; ///< its quantized attributes, by name
   int mode = 4;                                      ///< the input primitive mode
 };
 
@@ -85,10 +99,5 @@ ApiResult<GltfDocument> parse_asset(std::string_view bytes, AssetKind kind, cons
 /// kEmptyMesh. Complexity: O(vertices + indices).
 ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t mesh, std::uint32_t primitive,
                                         const ReadLimits& limits = {});
-
-/// Decodes base64 (RFC 4648, padding optional, no whitespace). nullopt-like failure: false.
-bool decode_base64(std::string_view text, std::vector<std::uint8_t>& out);
-/// Encodes base64 with padding.
-std::string encode_base64(std::string_view bytes);
 
 }  // namespace seam::api

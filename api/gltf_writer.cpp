@@ -175,16 +175,15 @@ void set_extension_listed(json& root, const char* key, const std::string& ext, b
 }
 
 // Adds a primitive's vertex data: plain accessors, or a Draco blob plus view-less accessors.
+// Returns {"attributes", "indices", "extension" (with Draco), "draco_bytes"}.
 ApiResult<json> add_primitive_data(BinBuilder& builder, const std::vector<AttributeArray>& attributes,
                                    const AttributeArray& indices, const std::vector<core::Triangle>& triangles,
-                                   const WriteOptions& options, std::size_t& draco_bytes,
-                                   std::vector<std::uint8_t>& bin) {
-  (void)bin;
+                                   bool draco, const DracoEncodeOptions& draco_options) {
   json prim_attributes = json::object();
-  json result = json::object();
-  if (options.draco) {
-    SEAM_TRY(const EncodedDraco encoded, encode_draco(attributes, triangles, options.draco_options));
-    draco_bytes = encoded.bytes.size();
+  json result = {{"draco_bytes", 0}};
+  if (draco) {
+    SEAM_TRY(const EncodedDraco encoded, encode_draco(attributes, triangles, draco_options));
+    result["draco_bytes"] = encoded.bytes.size();
     const std::size_t view =
         builder.add_view(reinterpret_cast<const std::uint8_t*>(encoded.bytes.data()), encoded.bytes.size(), 0, 0);
     json ext_attributes = json::object();
@@ -229,11 +228,11 @@ std::string encode_glb(const json& document, const std::vector<std::uint8_t>& bi
   return out;
 }
 
-ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::uint32_t mesh_index, std::uint32_t primitive_index,
-                                        const PrimitiveData& data, const CutPrimitive& cut, const WriteOptions& options) {
-  json root = doc.json;
+namespace {
+
+// The input buffers concatenated into one (each 4-byte aligned), every view moved with them.
+std::vector<std::uint8_t> merge_buffers(const GltfDocument& doc, json& root) {
   std::vector<std::uint8_t> bin;
-  // A GLB holds one binary buffer: concatenate the input buffers and move every view.
   std::vector<std::size_t> base;
   for (const auto& b : doc.buffers) {
     align4(bin);
@@ -247,12 +246,12 @@ ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::uint32_t m
       view["byteOffset"] = base[b] + view.value("byteOffset", std::size_t{0});
     }
   }
-  json merged = doc.buffers.empty() || !root["buffers"][0].is_object() ? json::object() : root["buffers"][0];
-  merged.erase("uri");
-  BinBuilder builder(root, bin);
+  return bin;
+}
 
-  WrittenAsset written;
-  written.vertices = cut.source_vertex.size();
+// Every attribute of the input primitive gathered per output vertex, plus the new UV set as
+// TEXCOORD_n with the smallest n the primitive does not use.
+std::vector<AttributeArray> output_attributes(const PrimitiveData& data, const CutPrimitive& cut, int& uv_channel) {
   std::vector<AttributeArray> attributes;
   attributes.reserve(data.attributes.size() + 1);
   std::set<int> used_texcoords;
@@ -266,23 +265,49 @@ ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::uint32_t m
       }
     }
   }
+  uv_channel = -1;
   if (!cut.uv.empty()) {
     int n = 0;
     while (used_texcoords.count(n)) ++n;
-    written.uv_channel = n;
+    uv_channel = n;
     std::vector<float> values;
     values.reserve(cut.uv.size() * 2);
     for (const auto& uv : cut.uv) values.insert(values.end(), {uv[0], uv[1]});
     attributes.push_back(make_float_attribute("TEXCOORD_" + std::to_string(n), 2, values));
   }
-  const AttributeArray indices = index_array(cut.triangles, cut.source_vertex.size());
-  WriteOptions effective = options;
-  // Morph targets stay outside the Draco blob, indexed by vertex: Draco must not reorder.
-  if (!data.targets.empty()) effective.draco_options.preserve_point_order = true;
-  SEAM_TRY(json added,
-           add_primitive_data(builder, attributes, indices, cut.triangles, effective, written.draco_bytes, bin));
+  return attributes;
+}
 
-  json& prim = root["meshes"][mesh_index]["primitives"][primitive_index];
+// The accessors (and a Draco blob's view) a primitive references: dropped once replaced,
+// unless something else still uses them.
+void collect_references(const json& prim, std::vector<std::size_t>& accessors, std::vector<std::size_t>& views) {
+  if (prim.contains("attributes")) {
+    for (const auto& [name, ref] : prim["attributes"].items()) accessors.push_back(ref.get<std::size_t>());
+  }
+  if (prim.contains("indices")) accessors.push_back(prim["indices"].get<std::size_t>());
+  if (prim.contains("targets")) {
+    for (const auto& target : prim["targets"]) {
+      for (const auto& [name, ref] : target.items()) accessors.push_back(ref.get<std::size_t>());
+    }
+  }
+  if (prim.contains("extensions") && prim["extensions"].contains(kDracoExt)) {
+    views.push_back(prim["extensions"][kDracoExt]["bufferView"].get<std::size_t>());
+  }
+}
+
+// Replaces one primitive's JSON by the cut's accessors; extras.seam carries the seam.
+ApiResult<WrittenPrimitive> replace_primitive(BinBuilder& builder, json& prim, const ReplacedPrimitive& r) {
+  const PrimitiveData& data = *r.data;
+  const CutPrimitive& cut = *r.cut;
+  WrittenPrimitive written;
+  written.vertices = cut.source_vertex.size();
+  const std::vector<AttributeArray> attributes = output_attributes(data, cut, written.uv_channel);
+  const AttributeArray indices = index_array(cut.triangles, cut.source_vertex.size());
+  DracoEncodeOptions draco_options = r.draco_options;
+  // Morph targets stay outside the Draco blob, indexed by vertex: Draco must not reorder.
+  if (!data.targets.empty()) draco_options.preserve_point_order = true;
+  SEAM_TRY(json added, add_primitive_data(builder, attributes, indices, cut.triangles, r.draco, draco_options));
+  written.draco_bytes = added["draco_bytes"].get<std::size_t>();
   prim["attributes"] = added["attributes"];
   prim["indices"] = added["indices"];
   prim["mode"] = 4;
@@ -301,17 +326,38 @@ ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::uint32_t m
     prim["extensions"].erase(kDracoExt);
     if (prim["extensions"].empty()) prim.erase("extensions");
   }
-  if (options.draco) prim["extensions"][kDracoExt] = added["extension"];
+  if (r.draco) prim["extensions"][kDracoExt] = added["extension"];
   if (!prim.contains("extras") || !prim["extras"].is_object()) {
     json old = prim.contains("extras") ? prim["extras"] : json();
     prim["extras"] = json::object();
     if (!old.is_null()) prim["extras"]["original"] = std::move(old);
   }
   prim["extras"]["seam"] = cut.seam_extras;
+  if (written.uv_channel >= 0) prim["extras"]["seam"]["uv_channel"] = written.uv_channel;
+  return written;
+}
 
+}  // namespace
+
+ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::span<const ReplacedPrimitive> replaced) {
+  json root = doc.json;
+  std::vector<std::uint8_t> bin = merge_buffers(doc, root);
+  json merged = doc.buffers.empty() || !root["buffers"][0].is_object() ? json::object() : root["buffers"][0];
+  merged.erase("uri");
+  BinBuilder builder(root, bin);
+
+  WrittenAsset written;
+  std::vector<std::size_t> old_accessors, old_views;
+  for (const ReplacedPrimitive& r : replaced) {
+    json& prim = root["meshes"][r.mesh]["primitives"][r.primitive];
+    collect_references(prim, old_accessors, old_views);
+    SEAM_TRY(WrittenPrimitive w, replace_primitive(builder, prim, r));
+    written.primitives.push_back(w);
+  }
   const bool draco = uses_draco(root);
   set_extension_listed(root, "extensionsUsed", kDracoExt, draco);
   set_extension_listed(root, "extensionsRequired", kDracoExt, draco);
+  written.compaction = compact_unused(root, bin, old_accessors, old_views);
 
   align4(bin);
   merged["byteLength"] = bin.size();
@@ -350,10 +396,7 @@ ApiResult<std::string> write_plain_glb(const core::IndexedMesh& mesh, const std:
   std::vector<AttributeArray> attributes{make_float_attribute("POSITION", 3, positions)};
   for (const auto& a : extra) attributes.push_back(a);
   const AttributeArray indices = index_array(mesh.triangles, mesh.positions.size());
-  WriteOptions options;
-  options.draco = draco;
-  std::size_t draco_bytes = 0;
-  SEAM_TRY(json added, add_primitive_data(builder, attributes, indices, mesh.triangles, options, draco_bytes, bin));
+  SEAM_TRY(json added, add_primitive_data(builder, attributes, indices, mesh.triangles, draco, DracoEncodeOptions{}));
   json& prim = root["meshes"][0]["primitives"][0];
   prim["attributes"] = added["attributes"];
   prim["indices"] = added["indices"];

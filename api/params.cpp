@@ -4,7 +4,7 @@
 #include <string>
 
 #include "api/json_limits.h"
-#include "api/pipeline.h"
+#include "api/params.h"
 
 namespace seam::api {
 namespace {
@@ -123,11 +123,55 @@ ApiResult<std::uint32_t> small_index(const json& v, const std::string& name) {
   return invalid(name, name + " must be a non-negative integer");
 }
 
+ApiResult<PrimitiveSelector> selector_from_json(const json& v) {
+  if (!v.is_object()) {
+    return invalid("primitives", "primitives: each entry must be an object such as {\"mesh\": 0, \"primitive\": 1} "
+                                 "or {\"mesh\": \"Body\"}");
+  }
+  PrimitiveSelector out;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string& key = it.key();
+    if (key == "mesh") {
+      if (it->is_string()) {
+        out.mesh_name = it->get<std::string>();
+      } else {
+        SEAM_TRY(out.mesh, small_index(*it, "primitives.mesh"));
+      }
+    } else if (key == "primitive") {
+      SEAM_TRY(out.primitive, small_index(*it, "primitives.primitive"));
+    } else if (key == "extrema") {
+      SEAM_TRY(out.extrema, extrema_from_json(*it));
+    } else {
+      return invalid("primitives." + key.substr(0, 60), "primitives: unknown key \"" + key.substr(0, 60) +
+                                                            "\" in an entry (known: mesh, primitive, extrema)");
+    }
+  }
+  if (!out.mesh && out.mesh_name.empty()) {
+    return invalid("primitives.mesh", "primitives: every entry needs \"mesh\" (an index or a mesh name)");
+  }
+  return out;
+}
+
+ApiResult<std::optional<std::vector<PrimitiveSelector>>> primitives_from_json(const json& v) {
+  if (v.is_string() && v.get<std::string>() == "all") return std::optional<std::vector<PrimitiveSelector>>{};
+  if (!v.is_array() || v.empty()) {
+    return invalid("primitives", "primitives must be \"all\" or a non-empty array of {\"mesh\": i or \"name\", "
+                                 "\"primitive\": j, \"extrema\": ...} entries");
+  }
+  std::vector<PrimitiveSelector> out;
+  for (const auto& e : v) {
+    SEAM_TRY(PrimitiveSelector s, selector_from_json(e));
+    out.push_back(std::move(s));
+  }
+  return std::optional<std::vector<PrimitiveSelector>>(std::move(out));
+}
+
 }  // namespace
 
 ApiResult<SeamParams> params_from_json(const json& params) {
   if (!params.is_object()) return invalid("params", "the parameters must be a JSON object");
   SeamParams out;
+  bool primitives_given = false;
   for (auto it = params.begin(); it != params.end(); ++it) {
     const std::string& key = it.key();
     const json& v = *it;
@@ -140,6 +184,9 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       SEAM_TRY(out.mesh, small_index(v, "mesh"));
     } else if (key == "primitive") {
       SEAM_TRY(out.primitive, small_index(v, "primitive"));
+    } else if (key == "primitives") {
+      SEAM_TRY(out.primitives, primitives_from_json(v));
+      primitives_given = true;
     } else if (key == "method") {
       const std::string m = v.is_string() ? v.get<std::string>() : "";
       if (m == "skeleton") out.method = core::SeamMethod::kSkeleton;
@@ -176,8 +223,13 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       out.weld_epsilon = v.get<double>();
     } else {
       return invalid(key.substr(0, 60), "unknown parameter \"" + key.substr(0, 60) +
-                              "\" (known: extrema, mesh, primitive, method, uv, output, draco, refine, repair, weld_epsilon)");
+                              "\" (known: extrema, mesh, primitive, primitives, method, uv, output, draco, refine, repair, "
+                                         "weld_epsilon)");
     }
+  }
+  if (primitives_given && (out.mesh || out.primitive)) {
+    return invalid("primitives", "primitives cannot be combined with mesh or primitive (v1's single-primitive "
+                                 "selection): name the primitive as {\"primitives\": [{\"mesh\": i, \"primitive\": j}]}");
   }
   return out;
 }

@@ -1,23 +1,18 @@
-// One seam job: parse -> weld -> build -> extrema -> seam -> cut -> flatten -> write.
+// One seam request: parse -> select primitives -> read them -> run each primitive's job in
+// parallel within the request's thread budget -> write the asset once -> the response.
 #include "api/pipeline.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
-#include <cstring>
 #include <limits>
 #include <new>
 #include <optional>
-#include <unordered_map>
+#include <thread>
 
-#include "api/gltf_reader.h"
+#include "api/base64.h"
 #include "api/gltf_writer.h"
-#include "core/mesh/cut.h"
-#include "core/mesh/halfedge_mesh.h"
-#include "core/mesh/repair.h"
-#include "core/mesh/topology.h"
-#include "core/mesh/split_pinched.h"
-#include "core/mesh/vertex_order.h"
-#include "core/mesh/weld.h"
+#include "api/primitive_job.h"
 
 namespace seam::api {
 namespace {
@@ -27,401 +22,292 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-ApiError timeout(const char* stage) {
-  return make_api_error(ApiErrorCode::kTimeout, std::string("the computation exceeded the time budget during ") + stage);
-}
-
-// The mesh the core sees, numbered canonically: welded vertices along a Z-order curve of their
-// positions (canonical, and neighbours close in memory: Dijkstra runs ~40% faster than in the
-// input's order of a subdivided mesh, bench/mesh_bench.cpp), faces in order of their (rotated)
-// vertex triples. Vertex order, face order and vertex splits of the input then cannot change
-// the seam: GLB, split-vertex GLB and Draco (which reorders both) of one surface give the same
-// result.
-struct Canonical {
-  std::vector<core::Vec3> positions;
-  std::vector<core::Triangle> triangles;
-  std::vector<std::uint32_t> input_to_vertex;  // input vertex -> canonical vertex
-  std::vector<std::uint32_t> vertex_to_input;  // canonical vertex -> smallest input index
-  std::vector<std::uint32_t> face_to_input;    // canonical face -> input triangle
-  std::vector<std::uint32_t> input_to_face;    // input triangle -> canonical face
-  // After repair (or split_pinched): vertices beyond the welded ones are copies made by the
-  // splits, and faces are the kept ones. face_to_input/input_to_face then speak of the mesh's
-  // faces; an input triangle left out (degenerate) maps to kNoFace and is listed below.
-  std::vector<std::uint32_t> vertex_to_welded;  // vertex -> the welded vertex it is or copies
-  std::vector<std::uint8_t> reoriented;         // per mesh face: winding reversed by the repair
-  std::vector<std::uint32_t> degenerate_inputs; // input triangles left out of the topology
-  std::size_t welded_vertices = 0;
-  core::RepairCounts repairs;
+// One primitive to process and the extrema it uses.
+struct Selected {
+  std::uint32_t mesh = 0;
+  std::uint32_t primitive = 0;
+  const ExtremaSpec* extrema = nullptr;
 };
 
-constexpr std::uint32_t kNoFace = core::RepairedMesh::kNoFace;
-
-Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Triangle>& input_triangles) {
-  Canonical c;
-  const std::size_t wn = weld.positions.size();
-  c.welded_vertices = wn;
-  const std::vector<std::uint32_t> order = core::spatial_order(weld.positions);
-  std::vector<std::uint32_t> rank(wn);
-  c.positions.resize(wn);
-  for (std::uint32_t k = 0; k < wn; ++k) {
-    rank[order[k]] = k;
-    c.positions[k] = weld.positions[order[k]];
-  }
-  c.input_to_vertex.resize(weld.input_to_welded.size());
-  c.vertex_to_input.assign(wn, std::numeric_limits<std::uint32_t>::max());
-  for (std::size_t i = 0; i < weld.input_to_welded.size(); ++i) {
-    const std::uint32_t v = rank[weld.input_to_welded[i]];
-    c.input_to_vertex[i] = v;
-    c.vertex_to_input[v] = std::min(c.vertex_to_input[v], static_cast<std::uint32_t>(i));
-  }
-  std::vector<core::Triangle> rotated(input_triangles.size());
-  for (std::size_t t = 0; t < input_triangles.size(); ++t) {
-    core::Triangle tri;
-    for (int k = 0; k < 3; ++k) tri[static_cast<std::size_t>(k)] = c.input_to_vertex[input_triangles[t][static_cast<std::size_t>(k)]];
-    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
-    rotated[t] = tri;
-  }
-  c.face_to_input.resize(rotated.size());
-  for (std::uint32_t t = 0; t < rotated.size(); ++t) c.face_to_input[t] = t;
-  std::stable_sort(c.face_to_input.begin(), c.face_to_input.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return rotated[a] < rotated[b]; });
-  c.input_to_face.resize(rotated.size());
-  c.triangles.resize(rotated.size());
-  for (std::uint32_t f = 0; f < rotated.size(); ++f) {
-    c.input_to_face[c.face_to_input[f]] = f;
-    c.triangles[f] = rotated[c.face_to_input[f]];
-  }
-  return c;
+ApiError invalid_selection(std::string message, json details = json::object()) {
+  details["parameter"] = "primitives";
+  return make_api_error(ApiErrorCode::kInvalidParameter, std::move(message), std::move(details));
 }
 
-// A welded vertex where several fans of triangles meet only at that vertex (scans, CGAL's cow,
-// and split-vertex assets whose welding closes two sheets at a point) becomes one vertex per
-// fan. The copies map back to the welded vertex and so to the same input vertex; the split is
-// numbered from the canonical mesh, so it is as independent of the input order as the rest.
-void split_pinched(Canonical& c) {
-  core::PinchSplit split = core::split_pinched_vertices(c.positions, c.triangles);
-  c.repairs.pinched_vertices = split.pinched_vertices;
-  for (std::size_t v = c.vertex_to_input.size(); v < split.positions.size(); ++v) {
-    c.vertex_to_input.push_back(c.vertex_to_input[split.source[v]]);
+const json& meshes_of(const GltfDocument& doc) {
+  static const json kNone = json::array();
+  const auto it = doc.json.find("meshes");
+  return it != doc.json.end() && it->is_array() ? *it : kNone;
+}
+
+// A primitive the default selection takes: not points or lines (malformed modes and objects
+// are taken, so read_primitive names the defect instead of the primitive vanishing).
+bool is_surface(const json& prim) {
+  if (!prim.is_object()) return true;
+  const auto mode = prim.find("mode");
+  return mode == prim.end() || !mode->is_number_unsigned() || mode->get<std::uint64_t>() > 3;
+}
+
+// Every surface primitive of mesh m (in asset order).
+void add_mesh(const GltfDocument& doc, std::uint32_t m, const ExtremaSpec* extrema, std::vector<Selected>& out) {
+  const json& mesh = meshes_of(doc)[m];
+  if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) {
+    out.push_back({m, 0, extrema});  // read_primitive reports the malformed mesh
+    return;
   }
-  c.vertex_to_welded = std::move(split.source);
-  c.positions = std::move(split.positions);
-  c.triangles = std::move(split.triangles);
-  c.reoriented.assign(c.triangles.size(), 0);
-}
-
-// repair: true. core::repair_mesh on the canonical soup (so the repair, too, is independent of
-// the input order); the maps are composed so that they still lead to input indices.
-void repair(Canonical& c) {
-  core::RepairedMesh r = core::repair_mesh(c.positions, c.triangles);
-  for (std::size_t v = c.vertex_to_input.size(); v < r.positions.size(); ++v) {
-    c.vertex_to_input.push_back(c.vertex_to_input[r.vertex_source[v]]);
+  const json& prims = mesh["primitives"];
+  for (std::uint32_t p = 0; p < prims.size(); ++p) {
+    if (is_surface(prims[p])) out.push_back({m, p, extrema});
   }
-  std::vector<std::uint32_t> face_to_input(r.face_source.size());
-  for (std::size_t f = 0; f < face_to_input.size(); ++f) face_to_input[f] = c.face_to_input[r.face_source[f]];
-  for (auto& f : c.input_to_face) f = r.input_to_face[f];
-  for (auto f : r.degenerate_faces) c.degenerate_inputs.push_back(c.face_to_input[f]);
-  std::sort(c.degenerate_inputs.begin(), c.degenerate_inputs.end());
-  c.face_to_input = std::move(face_to_input);
-  c.vertex_to_welded = std::move(r.vertex_source);
-  c.positions = std::move(r.positions);
-  c.triangles = std::move(r.triangles);
-  c.reoriented = std::move(r.reoriented);
-  c.repairs = r.counts;
 }
 
-// What the builder refused, recounted over the whole soup in input numbering (the builder names
-// canonical elements and stops at 8), so the message, the count and `details` agree.
-constexpr std::size_t kListedElements = 100;
-
-json with_hint(json details, std::size_t count, const char* hint) {
-  details["count"] = count;
-  details["hint"] = hint;
-  return details;
-}
-
-ApiError degenerate_faces_error(const Canonical& canon, const PrimitiveData& data) {
-  std::vector<std::uint32_t> faces;
-  for (std::uint32_t f = 0; f < data.mesh.triangles.size(); ++f) {
-    const core::Triangle& t = canon.triangles[canon.input_to_face[f]];
-    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-    const auto& p = canon.positions;
-    if (repeated || (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).squaredNorm() == 0.0) faces.push_back(f);
-  }
-  if (faces.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder found a degenerate face, the recount none");
-  const core::Triangle& t = data.mesh.triangles[faces[0]];
-  const char* hint = "repair: true leaves them out of the topology and keeps them in the asset";
-  const std::size_t count = faces.size();
-  faces.resize(std::min(count, kListedElements));
-  return make_api_error(ApiErrorCode::kDegenerateFace,
-                        std::to_string(count) + (count == 1 ? " face is" : " faces are") +
-                            " degenerate after welding (a repeated vertex or zero area), first face " +
-                            std::to_string(faces[0]) + " (vertices " + std::to_string(t[0]) + ", " +
-                            std::to_string(t[1]) + ", " + std::to_string(t[2]) + "); " + hint,
-                        with_hint({{"faces", faces}}, count, hint));
-}
-
-// Edges of three or more faces (non_manifold), or of two faces traversing them the same way.
-ApiError edge_error(ApiErrorCode code, const Canonical& canon) {
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;  // (undirected key, tail)
-  for (const auto& t : canon.triangles) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::uint64_t a = t[k], b = t[(k + 1) % 3];
-      uses.emplace_back((std::min(a, b) << 32) | std::max(a, b), t[k]);
+// Meshes named `name` (several meshes may share a name; all of them are meant).
+std::vector<std::uint32_t> meshes_named(const GltfDocument& doc, const std::string& name) {
+  std::vector<std::uint32_t> out;
+  const json& meshes = meshes_of(doc);
+  for (std::uint32_t m = 0; m < meshes.size(); ++m) {
+    const json& mesh = meshes[m];
+    if (mesh.is_object() && mesh.contains("name") && mesh["name"].is_string() && mesh["name"].get<std::string>() == name) {
+      out.push_back(m);
     }
   }
-  std::sort(uses.begin(), uses.end());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i + 1;
-    while (j < uses.size() && uses[j].first == uses[i].first) ++j;
-    const bool bad = code == ApiErrorCode::kNonManifoldEdge ? j - i > 2 : j - i == 2 && uses[i].second == uses[i + 1].second;
-    if (bad) {
-      const std::uint32_t a = canon.vertex_to_input[uses[i].first >> 32];
-      const std::uint32_t b = canon.vertex_to_input[uses[i].first & 0xffffffffu];
-      edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-    i = j;
-  }
-  if (edges.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder refused an edge, the recount found none");
-  std::sort(edges.begin(), edges.end());
-  const std::size_t count = edges.size();
-  const bool fin = code == ApiErrorCode::kNonManifoldEdge;
-  const char* hint = fin ? "repair: true splits these edges into manifold sheets"
-                         : "repair: true reverses the faces that disagree with their sheet";
-  json listed = json::array();
-  for (std::size_t e = 0; e < std::min(count, kListedElements); ++e) listed.push_back({edges[e].first, edges[e].second});
-  return make_api_error(code,
-                        std::to_string(count) + (count == 1 ? " edge is " : " edges are ") +
-                            (fin ? "shared by three or more faces" : "traversed in the same direction by both of their faces (flipped faces)") +
-                            ", first the edge between vertices " + std::to_string(edges[0].first) + " and " +
-                            std::to_string(edges[0].second) + "; " + hint,
-                        with_hint({{"edges", std::move(listed)}}, count, hint));
-}
-
-// Core errors name canonical vertices or faces; the contract speaks in input indices.
-ApiError map_core_error(const core::Error& error, const Canonical& canon, core::ErrorCode code) {
-  ApiError out = from_core(error);
-  if (!out.details.contains("elements")) return out;
-  const bool vertices = code == core::ErrorCode::kNonManifoldEdge || code == core::ErrorCode::kNonManifoldVertex ||
-                        code == core::ErrorCode::kInconsistentOrientation || code == core::ErrorCode::kNonFinitePosition;
-  const bool faces = code == core::ErrorCode::kDegenerateFace;
-  if (!vertices && !faces) return out;
-  const auto& map = vertices ? canon.vertex_to_input : canon.face_to_input;
-  json mapped = json::array();
-  for (const auto& e : out.details["elements"]) {
-    const auto w = e.get<std::uint32_t>();
-    mapped.push_back(w < map.size() ? map[w] : w);
-  }
-  out.details[vertices ? "vertices" : "faces"] = std::move(mapped);
-  out.details.erase("elements");
   return out;
 }
 
-// The asset's vertices after the cut: one per (input vertex, cut vertex) pair, and every input
-// triangle over them, in input order.
-struct OutputVertices {
-  CutPrimitive primitive;                   // source_vertex and triangles filled
-  std::vector<core::VertexId> cut_vertex;   // per output vertex: the cut vertex its UV comes from
+ApiResult<std::vector<Selected>> select_listed(const GltfDocument& doc, const SeamParams& params) {
+  std::vector<Selected> out;
+  for (const PrimitiveSelector& s : *params.primitives) {
+    const ExtremaSpec* extrema = s.extrema ? &*s.extrema : &params.extrema;
+    std::vector<std::uint32_t> meshes;
+    if (s.mesh) {
+      meshes.push_back(*s.mesh);
+    } else {
+      meshes = meshes_named(doc, s.mesh_name);
+      if (meshes.empty()) {
+        return invalid_selection("primitives: no mesh is named \"" + s.mesh_name.substr(0, 60) + "\"",
+                                 {{"mesh", s.mesh_name.substr(0, 60)}});
+      }
+    }
+    for (const std::uint32_t m : meshes) {
+      if (s.primitive || m >= meshes_of(doc).size()) out.push_back({m, s.primitive.value_or(0), extrema});
+      else add_mesh(doc, m, extrema, out);
+    }
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> keys;
+  for (const auto& s : out) keys.emplace_back(s.mesh, s.primitive);
+  std::sort(keys.begin(), keys.end());
+  const auto dup = std::adjacent_find(keys.begin(), keys.end());
+  if (dup != keys.end()) {
+    return invalid_selection("primitives: primitive " + std::to_string(dup->second) + " of mesh " +
+                                 std::to_string(dup->first) + " is selected twice",
+                             {{"mesh", dup->first}, {"primitive", dup->second}});
+  }
+  return out;
+}
+
+// API.md v2 "Whole assets": v1's mesh/primitive select one primitive; a list selects its
+// entries; the default is every surface primitive of every mesh (a mesh used by several
+// nodes is one mesh, so it is cut once).
+ApiResult<std::vector<Selected>> select_primitives(const GltfDocument& doc, const SeamParams& params) {
+  std::vector<Selected> out;
+  if (params.mesh || params.primitive) {
+    out.push_back({params.mesh.value_or(0), params.primitive.value_or(0), &params.extrema});
+  } else if (params.primitives) {
+    SEAM_TRY(out, select_listed(doc, params));
+  } else {
+    for (std::uint32_t m = 0; m < meshes_of(doc).size(); ++m) add_mesh(doc, m, &params.extrema, out);
+    if (out.empty()) {
+      return make_api_error(ApiErrorCode::kNoTrianglePrimitive,
+                            "the asset has no triangle primitive (TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN) to cut",
+                            {{"meshes", meshes_of(doc).size()}});
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const Selected& a, const Selected& b) {
+    return std::pair(a.mesh, a.primitive) < std::pair(b.mesh, b.primitive);
+  });
+  // Vertex indices and positions name vertices of one primitive: the request's top-level list
+  // cannot serve several.
+  const auto shared = std::count_if(out.begin(), out.end(), [&](const Selected& s) { return s.extrema == &params.extrema; });
+  if (shared > 1 && params.extrema.names_vertices()) {
+    return make_api_error(ApiErrorCode::kInvalidParameter,
+                          "extrema names vertices, which belong to one primitive, but " + std::to_string(out.size()) +
+                              " primitives are selected: give each its own list in primitives "
+                              "([{\"mesh\": i, \"primitive\": j, \"extrema\": [...]}]) or select one with mesh/primitive",
+                          {{"parameter", "extrema"}, {"primitives", out.size()}});
+  }
+  return out;
+}
+
+// The explicit extrema of the whole request (top level and every entry) against the limit,
+// before the asset is parsed.
+ApiResult<std::size_t> request_explicit_extrema(const SeamParams& params, std::size_t limit) {
+  ExtremaSpec all = params.extrema;
+  if (params.primitives) {
+    for (const auto& s : *params.primitives) {
+      if (!s.extrema) continue;
+      all.indices.insert(all.indices.end(), s.extrema->indices.begin(), s.extrema->indices.end());
+      all.positions.insert(all.positions.end(), s.extrema->positions.begin(), s.extrema->positions.end());
+      if (all.indices.size() + all.positions.size() > limit) break;  // enough to refuse
+    }
+  }
+  return explicit_extrema_count(all, limit);
+}
+
+// A primitive's error says which primitive when the request processes several.
+ApiError at_primitive(ApiError error, const Selected& s, bool several) {
+  if (!error.details.is_object()) error.details = json::object();
+  error.details["mesh"] = s.mesh;
+  error.details["primitive"] = s.primitive;
+  if (several) {
+    error.message = "mesh " + std::to_string(s.mesh) + " primitive " + std::to_string(s.primitive) + ": " + error.message;
+  }
+  return error;
+}
+
+// Reads the selected primitives. The face limit holds for the request as a whole: each read
+// is bounded by it, and so is their sum.
+ApiResult<std::vector<PrimitiveData>> read_selected(const GltfDocument& doc, const std::vector<Selected>& selected,
+                                                    const ReadLimits& limits) {
+  std::vector<PrimitiveData> out;
+  out.reserve(selected.size());
+  std::size_t faces = 0;
+  for (const Selected& s : selected) {
+    auto data = read_primitive(doc, s.mesh, s.primitive, limits);
+    if (!data.ok()) return at_primitive(data.take_error(), s, selected.size() > 1);
+    faces += data->mesh.triangles.size();
+    if (faces > limits.max_faces) {
+      return make_api_error(ApiErrorCode::kMeshTooLarge,
+                            "the selected primitives have more than " + std::to_string(limits.max_faces) +
+                                " triangles in all, the limit (select fewer with primitives)",
+                            {{"limit", limits.max_faces}, {"primitives", selected.size()}});
+    }
+    out.push_back(std::move(data).value());
+  }
+  return out;
+}
+
+struct JobOutcomes {
+  std::vector<std::optional<PrimitiveResult>> results;
+  std::optional<ApiError> error;  ///< of the first failing primitive in asset order
 };
 
-// Per welded vertex, a cut vertex to borrow for corners the topology left out (degenerate
-// faces): the lowest cut copy in some face, else the lowest copy at all.
-std::vector<core::VertexId> welded_to_cut(const Canonical& canon, const core::CutMesh& cut) {
-  std::vector<core::VertexId> out(canon.welded_vertices);
-  for (int pass = 0; pass < 2; ++pass) {
-    for (std::uint32_t v = 0; v < cut.mesh.num_vertices(); ++v) {
-      const core::VertexId cv(v);
-      if (pass == 0 && cut.mesh.is_isolated(cv)) continue;
-      core::VertexId& slot = out[canon.vertex_to_welded[cut.to_original[cv].index()]];
-      if (!slot.valid()) slot = cv;
+// Runs every primitive's job: min(budget, jobs) workers take the largest remaining first,
+// each with an equal share of the thread budget. After a failure, primitives after it in
+// asset order are skipped (the error reported is the first in asset order either way).
+JobOutcomes run_jobs(const std::vector<Selected>& selected, const std::vector<PrimitiveData>& data,
+                     const SeamParams& params, const PipelineLimits& limits, const core::CancelToken& cancel) {
+  const std::size_t n = selected.size();
+  const unsigned budget = limits.threads != 0 ? limits.threads : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(budget, n));
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return data[a].mesh.triangles.size() > data[b].mesh.triangles.size();
+  });
+  JobOutcomes out;
+  out.results.resize(n);
+  std::vector<std::optional<ApiError>> errors(n);
+  std::atomic<std::size_t> next{0}, first_failed{n};
+  PrimitiveJobOptions options{limits.max_extrema, std::max(1u, budget / std::max(1u, workers))};
+  auto work = [&] {
+    for (std::size_t k = next++; k < n; k = next++) {
+      const std::size_t i = order[k];
+      if (i > first_failed.load()) continue;
+      auto r = process_primitive(data[i], *selected[i].extrema, params, options, cancel);
+      if (r.ok()) {
+        out.results[i] = std::move(r).value();
+        continue;
+      }
+      errors[i] = at_primitive(r.take_error(), selected[i], n > 1);
+      std::size_t seen = first_failed.load();
+      while (i < seen && !first_failed.compare_exchange_weak(seen, i)) {
+      }
     }
-  }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned w = 1; w < workers; ++w) threads.emplace_back(work);
+  work();
+  for (auto& t : threads) t.join();
+  if (first_failed.load() < n) out.error = std::move(errors[first_failed.load()]);
   return out;
 }
 
-// Kept faces keep their corners (matched by vertex, not by trusting the rotation) and take
-// the repaired winding, so a reoriented face is written reoriented. A face left out of the
-// topology (degenerate after welding) is kept in the asset: its corners borrow a cut vertex
-// of their welded vertex, or of another corner of the face when theirs is in no face, so its
-// UVs come from its vertices (a zero-area UV triangle when it repeats a welded vertex).
-ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const Canonical& canon,
-                                              const core::CutMesh& cut) {
-  OutputVertices out;
-  CutPrimitive& prim = out.primitive;
-  prim.triangles.resize(data.mesh.triangles.size());
-  std::unordered_map<std::uint64_t, std::uint32_t> output_index;
-  output_index.reserve(data.mesh.positions.size() * 5 / 4);
-  auto emit = [&](std::uint32_t input, core::VertexId cv) {
-    const std::uint64_t key = (static_cast<std::uint64_t>(input) << 32) | cv.value();
-    auto [it, inserted] = output_index.try_emplace(key, static_cast<std::uint32_t>(prim.source_vertex.size()));
-    if (inserted) {
-      prim.source_vertex.push_back(input);
-      out.cut_vertex.push_back(cv);
-    }
-    return it->second;
-  };
-  for (std::size_t f = 0; f < data.mesh.triangles.size(); ++f) {
-    const std::uint32_t mf = canon.input_to_face[f];
-    if (mf == kNoFace) continue;
-    const auto corners = cut.mesh.face_vertices(core::FaceId(mf));
-    core::Triangle& tri = prim.triangles[f];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::uint32_t input = data.mesh.triangles[f][k];
-      const std::uint32_t welded = canon.input_to_vertex[input];
-      core::VertexId cv;
-      for (auto c : corners) {
-        if (canon.vertex_to_welded[cut.to_original[c].index()] == welded) cv = c;
-      }
-      if (!cv.valid()) {
-        return make_api_error(ApiErrorCode::kInternal, "cut face " + std::to_string(f) + " does not match its input triangle");
-      }
-      tri[k] = emit(input, cv);
-    }
-    if (canon.reoriented[mf]) std::swap(tri[1], tri[2]);
-  }
-  if (canon.degenerate_inputs.empty()) return out;
-  const std::vector<core::VertexId> borrow = welded_to_cut(canon, cut);
-  for (const std::uint32_t f : canon.degenerate_inputs) {
-    std::array<core::VertexId, 3> cv;
-    core::VertexId in_face;  // a corner's cut vertex that lies in some face
-    for (std::size_t k = 0; k < 3; ++k) {
-      cv[k] = borrow[canon.input_to_vertex[data.mesh.triangles[f][k]]];
-      if (!cv[k].valid()) return make_api_error(ApiErrorCode::kInternal, "degenerate face " + std::to_string(f) + " lost a vertex");
-      if (!in_face.valid() && !cut.mesh.is_isolated(cv[k])) in_face = cv[k];
-    }
-    for (std::size_t k = 0; k < 3; ++k) {
-      const core::VertexId c = cut.mesh.is_isolated(cv[k]) && in_face.valid() ? in_face : cv[k];
-      prim.triangles[f][k] = emit(data.mesh.triangles[f][k], c);
-    }
-  }
-  return out;
+json mesh_name(const GltfDocument& doc, std::uint32_t m) {
+  const json& mesh = meshes_of(doc)[m];
+  return mesh.contains("name") && mesh["name"].is_string() ? mesh["name"] : json("");
 }
 
-// The builder's refusals in input numbering; the rest as the core says them.
-ApiError build_error(const core::Error& error, const Canonical& canon, const PrimitiveData& data) {
-  switch (error.code) {
-    case core::ErrorCode::kDegenerateFace: return degenerate_faces_error(canon, data);
-    case core::ErrorCode::kNonManifoldEdge: return edge_error(ApiErrorCode::kNonManifoldEdge, canon);
-    case core::ErrorCode::kInconsistentOrientation: return edge_error(ApiErrorCode::kInconsistentOrientation, canon);
-    case core::ErrorCode::kInvalidArgument:
-    case core::ErrorCode::kEmptyMesh:
-    case core::ErrorCode::kIndexOutOfRange:
-    case core::ErrorCode::kNonFinitePosition:
-    case core::ErrorCode::kNonManifoldVertex:
-    case core::ErrorCode::kTooManyTerminals:
-    case core::ErrorCode::kTopologyViolation:
-    case core::ErrorCode::kSolverFailed:
-    case core::ErrorCode::kCancelled: break;
+// The 200 body: one entry per primitive; with exactly one, v1's top-level objects too.
+json response_body(const GltfDocument& doc, const std::vector<Selected>& selected, std::vector<json> summaries,
+                   const std::vector<bool>& draco, json timings) {
+  json body = {{"primitives", json::array()}};
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    json entry = {{"mesh", selected[i].mesh}, {"primitive", selected[i].primitive}, {"name", mesh_name(doc, selected[i].mesh)}};
+    entry.update(summaries[i]);
+    entry["draco"] = static_cast<bool>(draco[i]);
+    body["primitives"].push_back(std::move(entry));
   }
-  return map_core_error(error, canon, error.code);
+  body["draco"] = std::any_of(draco.begin(), draco.end(), [](bool d) { return d; });
+  if (selected.size() == 1) {
+    const json& only = body["primitives"][0];
+    for (const char* key : {"seam", "repairs", "cut", "uv"}) body[key] = only[key];
+    body["mesh"] = only["topology"];
+    json merged = only["timings_ms"];
+    merged.update(timings);
+    timings = std::move(merged);
+  }
+  body["timings_ms"] = std::move(timings);
+  return body;
 }
 
-// The cost cap comes first: an over-long explicit list is refused before the asset is parsed.
-ApiResult<std::size_t> explicit_extrema_count(const ExtremaSpec& spec, std::size_t max_extrema) {
-  const std::size_t count = spec.indices.size() + spec.positions.size();
-  if (count > max_extrema) {
-    return make_api_error(ApiErrorCode::kTooManyExtrema,
-                          "extrema: " + std::to_string(count) + " explicit extrema, more than the limit of " +
-                              std::to_string(max_extrema) + " (the server's --max-extrema)",
-                          {{"count", count}, {"limit", max_extrema}});
+ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, const SeamParams& params,
+                              const PipelineLimits& limits, const core::CancelToken& cancel) {
+  const auto t_start = Clock::now();
+  json timings = json::object();
+  auto t = Clock::now();
+  // Cost caps before any work on the mesh.
+  if (auto count = request_explicit_extrema(params, limits.max_extrema); !count.ok()) return count.take_error();
+  ReadLimits read_limits;
+  read_limits.max_faces = limits.max_faces;
+  SEAM_TRY(const GltfDocument doc, parse_asset(asset_bytes, kind, read_limits));
+  SEAM_TRY(const std::vector<Selected> selected, select_primitives(doc, params));
+  SEAM_TRY(const std::vector<PrimitiveData> data, read_selected(doc, selected, read_limits));
+  timings["parse"] = ms_since(t);
+  if (cancel.is_cancelled()) {
+    return make_api_error(ApiErrorCode::kTimeout, "the computation exceeded the time budget during parsing");
   }
-  return count;
-}
 
-// Automatic extrema minus `excluded`, at most `budget` of them: the most prominent (ties: the
-// lower vertex id), kept in the detector's order (by component, most prominent first). The
-// detector's per-component cap is lowered to the budget too, so it never ranks more.
-ApiResult<std::vector<core::VertexId>> automatic_extrema(const ExtremaSpec& spec, std::vector<core::VertexId> excluded,
-                                                         const core::HalfedgeMesh& mesh, std::size_t budget,
-                                                         unsigned threads, const core::CancelToken& cancel) {
-  if (budget == 0) return std::vector<core::VertexId>{};
-  core::ExtremaOptions options = spec.auto_options;
-  options.threads = threads;
-  if (options.max_count == 0 || options.max_count > budget) options.max_count = budget;
-  auto found = core::detect_extrema(mesh, options, cancel);
-  if (!found.ok()) return from_core(found.error());
-  std::sort(excluded.begin(), excluded.end());
-  std::vector<core::Extremum> kept;
-  for (const auto& e : found->extrema) {
-    if (!std::binary_search(excluded.begin(), excluded.end(), e.vertex)) kept.push_back(e);
-  }
-  if (kept.size() > budget) {
-    std::vector<std::size_t> rank(kept.size());
-    for (std::size_t i = 0; i < rank.size(); ++i) rank[i] = i;
-    std::stable_sort(rank.begin(), rank.end(), [&](std::size_t a, std::size_t b) {
-      if (kept[a].prominence != kept[b].prominence) return kept[a].prominence > kept[b].prominence;
-      return kept[a].vertex < kept[b].vertex;
-    });
-    std::vector<bool> keep(kept.size(), false);
-    for (std::size_t i = 0; i < budget; ++i) keep[rank[i]] = true;
-    std::size_t w = 0;
-    for (std::size_t i = 0; i < kept.size(); ++i) {
-      if (keep[i]) kept[w++] = kept[i];
-    }
-    kept.resize(w);
-  }
-  std::vector<core::VertexId> out;
-  out.reserve(kept.size());
-  for (const auto& e : kept) out.push_back(e.vertex);
-  return out;
-}
+  t = Clock::now();
+  JobOutcomes jobs = run_jobs(selected, data, params, limits, cancel);
+  if (jobs.error) return std::move(*jobs.error);
+  timings["primitives"] = ms_since(t);
 
-// Explicit extrema first in the budget (the client named them), then the automatic ones.
-ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, const PrimitiveData& data,
-                                                       const Canonical& canon, const core::HalfedgeMesh& mesh,
-                                                       const PipelineLimits& limits, const core::CancelToken& cancel) {
-  const std::size_t n = data.mesh.positions.size();
-  auto check = [&](std::uint32_t i, const char* what) -> std::optional<ApiError> {
-    if (i < n) return std::nullopt;
-    return make_api_error(ApiErrorCode::kExtremumOutOfRange,
-                          std::string(what) + " vertex " + std::to_string(i) + " is out of range: the primitive has " +
-                              std::to_string(n) + " vertices",
-                          {{"index", i}, {"vertices", n}});
-  };
-  SEAM_TRY(const std::size_t explicit_count, explicit_extrema_count(spec, limits.max_extrema));
-  std::vector<core::VertexId> result;
-  // Copies of one input vertex (pinched or repaired splits) are one extremum: the response
-  // names input vertices, and it never names one twice.
-  auto add = [&](core::VertexId v) {
-    const std::uint32_t input = canon.vertex_to_input[v.index()];
-    if (std::none_of(result.begin(), result.end(),
-                     [&](core::VertexId u) { return canon.vertex_to_input[u.index()] == input; })) {
-      result.push_back(v);
-    }
-  };
-  if (spec.automatic) {
-    std::vector<core::VertexId> excluded;
-    for (auto i : spec.exclude) {
-      if (auto e = check(i, "excluded")) return *e;
-      excluded.push_back(core::VertexId(canon.input_to_vertex[i]));
-    }
-    SEAM_TRY(const std::vector<core::VertexId> found,
-             automatic_extrema(spec, std::move(excluded), mesh, limits.max_extrema - explicit_count, limits.threads,
-                               cancel));
-    for (auto v : found) add(v);
+  t = Clock::now();
+  std::vector<ReplacedPrimitive> replaced;
+  std::vector<bool> draco;
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    ReplacedPrimitive r{selected[i].mesh, selected[i].primitive, &data[i], &jobs.results[i]->cut};
+    r.draco = params.draco.value_or(data[i].draco);
+    r.draco_options.keep = data[i].draco_quantization;  // a Draco input's grid, kept
+    draco.push_back(r.draco);
+    replaced.push_back(r);
   }
-  for (auto i : spec.indices) {
-    if (auto e = check(i, "extremum")) return *e;
-    add(core::VertexId(canon.input_to_vertex[i]));
+  SEAM_TRY(WrittenAsset written, write_cut_asset(doc, replaced));
+  std::vector<json> summaries;
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    json& summary = jobs.results[i]->summary;
+    if (summary["uv"].is_object()) summary["uv"]["channel"] = written.primitives[i].uv_channel;
+    summaries.push_back(std::move(summary));
   }
-  // Snap each position to the nearest vertex that lies on the surface (isolated vertices
-  // cannot be terminals).
-  for (const auto& p : spec.positions) {
-    const core::Vec3 q(p[0], p[1], p[2]);
-    double best = std::numeric_limits<double>::infinity();
-    core::VertexId best_v;
-    for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) {
-      if (mesh.is_isolated(core::VertexId(v))) continue;
-      const double d = (mesh.position(core::VertexId(v)) - q).squaredNorm();
-      if (d < best) {
-        best = d;
-        best_v = core::VertexId(v);
-      }
-    }
-    if (best_v.valid()) add(best_v);
-  }
-  return result;
+  timings["encode"] = ms_since(t);
+  timings["total"] = ms_since(t_start);
+
+  PipelineOutput output;
+  output.body = response_body(doc, selected, std::move(summaries), draco, std::move(timings));
+  if (params.output == OutputFormat::kJson) output.body["asset"] = {{"glb_base64", encode_base64(written.glb)}};
+  output.glb = std::move(written.glb);
+  output.total_ms = ms_since(t_start);
+  return output;
 }
 
 }  // namespace
@@ -429,183 +315,7 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
 ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, AssetKind kind, const SeamParams& params,
                                             const PipelineLimits& limits, const core::CancelToken& cancel) {
   try {
-    const auto t_start = Clock::now();
-    json timings = json::object();
-    auto t = Clock::now();
-    // Cost caps before any work on the mesh.
-    if (auto count = explicit_extrema_count(params.extrema, limits.max_extrema); !count.ok()) return count.take_error();
-    ReadLimits read_limits;
-    read_limits.max_faces = limits.max_faces;
-    SEAM_TRY(const GltfDocument doc, parse_asset(asset_bytes, kind, read_limits));
-    SEAM_TRY(const PrimitiveData data, read_primitive(doc, params.mesh, params.primitive, read_limits));
-    timings["parse"] = ms_since(t);
-    if (cancel.is_cancelled()) return timeout("parsing");
-
-    t = Clock::now();
-    auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
-    if (!weld.ok()) return from_core(weld.error());
-    Canonical canon = canonicalize(*weld, data.mesh.triangles);
-    if (params.repair) repair(canon);
-    else split_pinched(canon);
-    auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
-    if (!built.ok()) return build_error(built.error(), canon, data);
-    const core::HalfedgeMesh& mesh = *built;
-    const core::Topology topology = core::compute_topology(mesh);
-    timings["weld"] = ms_since(t);
-    if (cancel.is_cancelled()) return timeout("welding");
-
-    t = Clock::now();
-    SEAM_TRY(const std::vector<core::VertexId> extrema, resolve_extrema(params.extrema, data, canon, mesh, limits, cancel));
-    timings["extrema"] = ms_since(t);
-
-    t = Clock::now();
-    core::SeamOptions seam_options;
-    seam_options.method = params.method;
-    seam_options.refine = params.refine;
-    seam_options.threads = limits.threads;
-    auto seam = core::compute_seam(mesh, extrema, seam_options, cancel);
-    if (!seam.ok()) return map_core_error(seam.error(), canon, seam.error().code);
-    timings["seam"] = ms_since(t);
-
-    t = Clock::now();
-    const std::vector<core::EdgeId> cut_edges = core::all_cut_edges(*seam);
-    auto cut = core::cut_along_edges(mesh, cut_edges);
-    if (!cut.ok()) return from_core(cut.error());
-    const core::Topology cut_topology = core::compute_topology(cut->mesh);
-    timings["cut"] = ms_since(t);
-    if (cancel.is_cancelled()) return timeout("cutting");
-
-    t = Clock::now();
-    std::optional<core::UvResult> uv;
-    if (params.uv) {
-      core::UvOptions uv_options;
-      uv_options.method = *params.uv;
-      auto flattened = core::parameterize(cut->mesh, uv_options, cancel);
-      if (!flattened.ok()) return from_core(flattened.error());
-      uv = std::move(flattened).value();
-    }
-    timings["uv"] = ms_since(t);
-
-    t = Clock::now();
-    SEAM_TRY(OutputVertices output_vertices, map_output_vertices(data, canon, *cut));
-    CutPrimitive out_prim = std::move(output_vertices.primitive);
-    if (uv) {
-      out_prim.uv.reserve(out_prim.source_vertex.size());
-      // glTF puts the texture origin top-left with v growing down; flip v so that a
-      // counter-clockwise triangle stays counter-clockwise in texture space.
-      for (auto c : output_vertices.cut_vertex) {
-        const core::Vec2& p = uv->uv[c];
-        out_prim.uv.push_back({static_cast<float>(p.x()), static_cast<float>(1.0 - p.y())});
-      }
-    }
-
-    // The seam in input indices.
-    auto input_of = [&](core::VertexId v) { return canon.vertex_to_input[v.index()]; };
-    auto edge_pairs = [&](const std::vector<core::EdgeId>& edges) {
-      json out = json::array();
-      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-      for (auto e : edges) {
-        const auto h = core::HalfedgeMesh::halfedge(e);
-        auto a = input_of(mesh.tail(h)), b = input_of(mesh.head(h));
-        pairs.emplace_back(std::min(a, b), std::max(a, b));
-      }
-      std::sort(pairs.begin(), pairs.end());
-      for (const auto& [a, b] : pairs) out.push_back({a, b});
-      return out;
-    };
-    // In input numbering, first occurrence kept: copies of one input vertex (splits, cut) are
-    // listed once.
-    auto vertex_list = [&](const std::vector<core::VertexId>& vs) {
-      json out = json::array();
-      std::vector<std::uint32_t> seen;
-      for (auto v : vs) {
-        const std::uint32_t i = input_of(v);
-        if (std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
-        seen.push_back(i);
-        out.push_back(i);
-      }
-      return out;
-    };
-    json polylines = json::array();
-    for (const auto& branch : seam->branches) {
-      json line = json::array();
-      for (auto v : branch) {
-        const auto& p = mesh.position(v);
-        line.push_back({p.x(), p.y(), p.z()});
-      }
-      polylines.push_back(std::move(line));
-    }
-    json seam_json = {{"method", core::seam_method_name(params.method)},
-                      {"edges", edge_pairs(cut_edges)},
-                      {"length", seam->length},
-                      {"extrema", vertex_list(seam->extrema)},
-                      {"terminals", vertex_list(seam->terminals)},
-                      {"steiner_points", vertex_list(seam->steiner_points)},
-                      {"cut_graph_edges", edge_pairs(seam->cut_graph_edges)},
-                      {"cut_graph_length", seam->cut_graph_length},
-                      {"polylines", std::move(polylines)}};
-    std::size_t boundary_loops = topology.boundary_loops.size();
-    json mesh_json = {{"vertices", data.mesh.positions.size()},
-                      {"faces", data.mesh.triangles.size()},
-                      {"welded_vertices", weld->positions.size()},
-                      {"pinched_vertices_split", canon.repairs.pinched_vertices},
-                      {"components", topology.components.size()},
-                      {"genus", topology.total_genus()},
-                      {"boundary_loops", boundary_loops}};
-    const core::RepairCounts& r = canon.repairs;
-    json repairs_json = {{"non_manifold_edges", r.non_manifold_edges},
-                         {"reoriented_faces", r.reoriented_faces},
-                         {"degenerate_faces", r.degenerate_faces},
-                         {"pinched_vertices", r.pinched_vertices},
-                         {"split_off_faces", r.split_off_faces}};
-    json cut_json = {{"vertices", cut->mesh.num_vertices()},
-                     {"faces", cut->mesh.num_faces()},
-                     {"euler_characteristic", cut_topology.euler_characteristic()},
-                     {"boundary_loops", cut_topology.boundary_loops.size()},
-                     {"asset_vertices", out_prim.source_vertex.size()}};
-    json uv_json = nullptr;
-    if (uv) {
-      const auto& d = uv->distortion;
-      uv_json = {{"method", core::uv_method_name(uv->method_used)},
-                 {"area_distortion", d.area},
-                 {"area_distortion_geometric", d.area_geometric},
-                 {"angle_distortion", d.angle},
-                 {"stretch_l2", d.stretch_l2},
-                 {"stretch_linf", d.stretch_linf},
-                 {"flipped", d.flipped}};
-    }
-    out_prim.seam_extras = {{"method", seam_json["method"]},   {"length", seam->length},
-                            {"edges", seam_json["edges"]},     {"extrema", seam_json["extrema"]},
-                            {"terminals", seam_json["terminals"]}, {"steiner_points", seam_json["steiner_points"]},
-                            {"cut_graph_edges", seam_json["cut_graph_edges"]}};
-
-    if (uv) {
-      // The writer takes the smallest free TEXCOORD_n; say which in the summary too.
-      int channel = 0;
-      auto used = [&](int c) {
-        return std::any_of(data.attributes.begin(), data.attributes.end(),
-                           [&](const AttributeArray& a) { return a.name == "TEXCOORD_" + std::to_string(c); });
-      };
-      while (used(channel)) ++channel;
-      out_prim.seam_extras["uv_channel"] = channel;
-      out_prim.seam_extras["uv_method"] = core::uv_method_name(uv->method_used);
-    }
-    WriteOptions write_options;
-    write_options.draco = params.draco.value_or(data.draco);
-    SEAM_TRY(WrittenAsset written,
-             write_cut_asset(doc, params.mesh, params.primitive, data, out_prim, write_options));
-    if (uv) uv_json["channel"] = written.uv_channel;
-    timings["encode"] = ms_since(t);
-    timings["total"] = ms_since(t_start);
-
-    PipelineOutput output;
-    output.body = {{"seam", std::move(seam_json)}, {"mesh", std::move(mesh_json)}, {"repairs", std::move(repairs_json)},
-                   {"cut", std::move(cut_json)},
-                   {"uv", std::move(uv_json)},     {"timings_ms", timings},         {"draco", write_options.draco}};
-    if (params.output == OutputFormat::kJson) output.body["asset"] = {{"glb_base64", encode_base64(written.glb)}};
-    output.glb = std::move(written.glb);
-    output.total_ms = ms_since(t_start);
-    return output;
+    return run(asset_bytes, kind, params, limits, cancel);
   } catch (const std::bad_alloc&) {
     return make_api_error(ApiErrorCode::kInternal, "out of memory while processing the asset");
   } catch (const std::exception& e) {

@@ -1,5 +1,6 @@
-// One seam job from asset bytes and parameters to the contract's response: parse, weld,
-// seam, cut, flatten, encode. Shared by the HTTP server and the command line.
+// One seam request from asset bytes and parameters to the contract's response: parse, select
+// the primitives, run each one's job (api/primitive_job.h) in parallel, write the asset once.
+// Shared by the HTTP server and the command line.
 #pragma once
 
 #include <array>
@@ -12,55 +13,11 @@
 #include <nlohmann/json.hpp>
 
 #include "api/error.h"
+#include "api/gltf_reader.h"
+#include "api/params.h"
 #include "core/cancel.h"
-#include "core/extrema/extrema.h"
-#include "core/uv/parameterize.h"
-#include "core/seam/seam.h"
 
 namespace seam::api {
-
-/// How the extrema are chosen (API.md "extrema").
-struct ExtremaSpec {
-  bool automatic = true;                           ///< "auto", or {"auto": true, ...}
-  std::vector<std::uint32_t> indices;              ///< input vertex indices (include list)
-  std::vector<std::array<double, 3>> positions;    ///< snapped to the nearest vertex
-  std::vector<std::uint32_t> exclude;              ///< input vertex indices to drop from auto
-  core::ExtremaOptions auto_options;
-};
-
-enum class OutputFormat { kJson, kGlb };
-
-/// The parameters of POST /seam (API.md "Parameters").
-struct SeamParams {
-  ExtremaSpec extrema;
-  std::uint32_t mesh = 0;
-  std::uint32_t primitive = 0;
-  core::SeamMethod method = core::SeamMethod::kSkeleton;
-  /// nullopt = "none"; the default is the core's default (the lowest-distortion flip-free method).
-  std::optional<core::UvMethod> uv = core::UvOptions{}.method;
-  OutputFormat output = OutputFormat::kJson;
-  std::optional<bool> draco;  ///< nullopt = same as the input
-  /// Skeleton only: the local re-optimisation after §4.4 (core::SkeletonOptions::refine).
-  /// On: within a few percent of the optimum at ~0.2 s per request; off: the paper's seam,
-  /// a few milliseconds at 10k faces.
-  bool refine = core::SeamOptions{}.refine;
-  double weld_epsilon = 0.0;
-  /// Repair what the builder would refuse (core::repair_mesh: non-manifold edges split into
-  /// sheets, orientation made consistent, degenerate faces left out of the topology but kept
-  /// in the asset). false: v1's 422s (pinched vertices are split either way).
-  bool repair = true;
-};
-
-/// Parses the parameter object (the multipart `params` part, or the JSON body minus "mesh").
-/// Unknown keys are rejected (kInvalidParameter naming the key) so typos are not silent.
-ApiResult<SeamParams> params_from_json(const nlohmann::json& params);
-
-/// Parses query-string parameters (`?extrema=12,345&method=mst&uv=none`).
-ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string, std::string>>& query);
-
-/// What kind of bytes the asset is. kAuto sniffs: "glTF" magic = GLB, '{' = glTF JSON,
-/// "DRACO" magic = raw Draco mesh.
-enum class AssetKind { kAuto, kGlb, kGltfJson, kDraco };
 
 /// Per-request cost caps and the request's thread budget (the server's --max-faces,
 /// --max-extrema and threads per request).
@@ -83,11 +40,17 @@ struct PipelineOutput {
   double total_ms = 0;
 };
 
-/// Runs one seam job. Never throws for bad input: every failure is an ApiError with the
-/// contract's code. Cancelled work (time budget) returns kTimeout. Errors besides the
-/// loader's, the core's and kTimeout: kTooManyExtrema (more explicit extrema than
-/// limits.max_extrema, checked before the asset is parsed), kExtremumOutOfRange, kInternal.
-/// Uses at most max(1, limits.threads) threads (hardware concurrency when 0).
+/// Runs one seam request. Never throws for bad input: every failure is an ApiError with the
+/// contract's code. Errors: kTooManyExtrema (more explicit extrema in the whole request than
+/// limits.max_extrema, checked before the asset is parsed); the loader's (parse_asset,
+/// read_primitive); kInvalidParameter (a primitives entry naming no mesh or a primitive twice;
+/// top-level extrema naming vertices while several primitives are selected);
+/// kNoTrianglePrimitive (nothing to cut); kMeshTooLarge (the selected primitives exceed
+/// limits.max_faces in all); process_primitive's errors, with details.mesh and
+/// details.primitive and, when several are processed, the message prefixed by them (the
+/// first failing primitive in asset order); kTimeout (cancelled); kInternal.
+/// Uses at most max(1, limits.threads) threads (hardware concurrency when 0): min(threads,
+/// primitives) primitives at once, each with an equal share. The result does not depend on it.
 ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, AssetKind kind,
                                             const SeamParams& params, const PipelineLimits& limits,
                                             const core::CancelToken& cancel);

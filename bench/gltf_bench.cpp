@@ -92,9 +92,8 @@ int main(int argc, char** argv) {
       for (std::uint32_t v = 0; v < cut.source_vertex.size(); ++v) cut.source_vertex[v] = v;
       cut.triangles = prim.mesh.triangles;
       cut.uv.assign(cut.source_vertex.size(), {0.25f, 0.75f});
-      api::WriteOptions options;
-      options.draco = draco;
-      const double cut_ms = best_of(runs, [&] { (void)api::write_cut_asset(doc, 0, 0, prim, cut, options); });
+      const api::ReplacedPrimitive replaced{0, 0, &prim, &cut, draco};
+      const double cut_ms = best_of(runs, [&] { (void)api::write_cut_asset(doc, std::span(&replaced, 1)); });
       std::printf("%-14s %9zu %6s %11zu %10.1f %10.1f %10.1f %12.1f\n", input.name, mesh.triangles.size(),
                   draco ? "draco" : "glb", glb.size(), encode_ms, load_ms, weld_ms, cut_ms);
       std::fflush(stdout);

@@ -3,6 +3,7 @@
 #include <array>
 #include <cctype>
 
+#include "api/base64.h"
 #include "api/json_limits.h"
 
 namespace seam::server {
@@ -10,8 +11,6 @@ namespace {
 
 using api::ApiErrorCode;
 using api::make_api_error;
-
-constexpr std::string_view kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
@@ -25,69 +24,6 @@ std::string media_type(std::string_view content_type) {
   const auto semi = content_type.find(';');
   std::string out(trim(content_type.substr(0, semi)));
   for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-api::ApiResult<std::string> decode_base64(std::string_view text) {
-  std::array<int, 256> value{};
-  value.fill(-1);
-  for (std::size_t i = 0; i < kAlphabet.size(); ++i) value[static_cast<unsigned char>(kAlphabet[i])] = static_cast<int>(i);
-  std::string out;
-  out.reserve(text.size() / 4 * 3 + 3);
-  std::uint32_t acc = 0;
-  int bits = 0;
-  std::size_t padding = 0;
-  std::size_t symbols = 0;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
-    if (c == '=') {
-      ++padding;
-      continue;
-    }
-    // Data after padding, or a character outside the alphabet, is corrupt input, not noise.
-    if (padding > 0 || value[c] < 0) {
-      return make_api_error(ApiErrorCode::kMalformedRequest,
-                            "mesh.glb_base64 is not valid base64: unexpected character at offset " +
-                                std::to_string(i),
-                            {{"offset", i}});
-    }
-    ++symbols;
-    acc = (acc << 6) | static_cast<std::uint32_t>(value[c]);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<char>((acc >> bits) & 0xFFu));
-    }
-  }
-  if (symbols % 4 == 1 || padding > 2 || (padding > 0 && (symbols + padding) % 4 != 0)) {
-    return make_api_error(ApiErrorCode::kMalformedRequest,
-                          "mesh.glb_base64 is not valid base64: truncated (length " + std::to_string(symbols) +
-                              " symbols)");
-  }
-  return out;
-}
-
-std::string encode_base64(std::string_view bytes) {
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const std::uint32_t v = (static_cast<unsigned char>(bytes[i]) << 16) |
-                            (static_cast<unsigned char>(bytes[i + 1]) << 8) | static_cast<unsigned char>(bytes[i + 2]);
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += kAlphabet[v & 63];
-  }
-  if (i < bytes.size()) {
-    std::uint32_t v = static_cast<unsigned char>(bytes[i]) << 16;
-    if (i + 1 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += '=';
-  }
   return out;
 }
 
@@ -130,7 +66,15 @@ api::ApiResult<SeamRequest> parse_json_request(std::string_view body) {
     if (!b64->is_string()) {
       return make_api_error(ApiErrorCode::kMalformedRequest, "mesh.glb_base64 must be a base64 string");
     }
-    SEAM_TRY(out.asset, decode_base64(b64->get_ref<const std::string&>()));
+    auto decoded = api::decode_base64(b64->get_ref<const std::string&>());
+    if (!decoded.ok()) {
+      const api::Base64Error& e = decoded.error();
+      nlohmann::json details = nlohmann::json::object();
+      if (e.kind == api::Base64Error::Kind::kBadCharacter) details["offset"] = e.offset;
+      return make_api_error(ApiErrorCode::kMalformedRequest, "mesh.glb_base64 is not valid base64: " + e.describe(),
+                            std::move(details));
+    }
+    out.asset = std::move(decoded).value();
     out.kind = api::AssetKind::kAuto;  // GLB normally; a base64 Draco mesh is sniffed too
   } else {
     if (!gltf->is_object()) {

@@ -24,13 +24,6 @@ struct SeamRequest {
 /// Lower-cased media type without parameters: "Model/GLTF-Binary; x=y" -> "model/gltf-binary".
 std::string media_type(std::string_view content_type);
 
-/// Strict RFC 4648 base64 (standard alphabet; padding optional; ASCII whitespace ignored).
-/// Errors: kMalformedRequest naming the first bad character's offset. O(n).
-api::ApiResult<std::string> decode_base64(std::string_view text);
-
-/// Standard base64 with padding. O(n).
-std::string encode_base64(std::string_view bytes);
-
 /// The asset kind a media type announces: model/gltf-binary -> kGlb, model/gltf+json ->
 /// kGltfJson, application/octet-stream (Draco, or anything sniffable) -> kAuto.
 /// nullopt for media types the service does not take (the caller answers 415).

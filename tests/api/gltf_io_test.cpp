@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 
+#include "api/base64.h"
 #include "api/draco_io.h"
 #include "api/gltf_reader.h"
 #include "api/gltf_writer.h"

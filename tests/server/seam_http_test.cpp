@@ -1,6 +1,7 @@
 // End-to-end: the real pipeline behind the real server on 127.0.0.1, spoken to over HTTP.
 // Inputs are a CGAL mesh turned into GLB here and the bundled sample (`seamd sample`).
 // Eigen-heavy headers first: httplib.h (in the harness) must come after them.
+#include "api/base64.h"
 #include "api/cli.h"
 #include "api/gltf_writer.h"
 #include "api/pipeline.h"
@@ -64,7 +65,7 @@ nlohmann::json glb_to_gltf(const std::string& glb) {
   const auto bin_len = le32(glb, bin_at);
   const auto bin = glb.substr(bin_at + 8, bin_len);
   REQUIRE(json["buffers"].size() == 1);
-  json["buffers"][0]["uri"] = "data:application/octet-stream;base64," + seam::server::encode_base64(bin);
+  json["buffers"][0]["uri"] = "data:application/octet-stream;base64," + seam::api::encode_base64(bin);
   return json;
 }
 
@@ -144,7 +145,7 @@ TEST_CASE("POST /seam: every request form on a real mesh gives the CLI's seam") 
                                               {"mesh", asset.glb, "hand.glb", "application/octet-stream"},
                                               {"params", params.dump(), "", "application/json"}}));
   auto b64 = params;
-  b64["mesh"] = {{"glb_base64", seam::server::encode_base64(asset.glb)}};
+  b64["mesh"] = {{"glb_base64", seam::api::encode_base64(asset.glb)}};
   answers.emplace_back("JSON glb_base64", cli->Post("/seam", b64.dump(), "application/json"));
   auto gltf = params;
   gltf["mesh"] = {{"gltf", asset.gltf}};
@@ -198,7 +199,7 @@ TEST_CASE("POST /seam: GLB output on the bundled sample passes the glTF-Validato
   write_file(tmp.path / "cut.glb", glb->body);
   CHECK(validator_errors(tmp.path / "cut.glb") == 0);
   // The JSON form's asset is the same GLB.
-  auto decoded = seam::server::decode_base64(body["asset"]["glb_base64"].get<std::string>());
+  auto decoded = seam::api::decode_base64(body["asset"]["glb_base64"].get<std::string>());
   REQUIRE(decoded.ok());
   CHECK(decoded.value() == glb->body);
 }

@@ -1,6 +1,7 @@
 // End-to-end tests of the HTTP layer with a scripted job in place of the seam pipeline, so
 // backpressure, time budgets, failures and shutdown are deterministic. The real pipeline
 // behind real HTTP is exercised in seam_http_test.cpp.
+#include "api/base64.h"
 #include "api/pipeline.h"
 #include "server/request.h"
 
@@ -203,7 +204,7 @@ TEST_CASE("the three request forms and both output formats reach the job") {
     CHECK(j["method"] == static_cast<int>(seam::core::SeamMethod::kGreedy));
   }
   SUBCASE("JSON body with base64 GLB") {
-    const nlohmann::json body = {{"mesh", {{"glb_base64", seam::server::encode_base64("ok:b64")}}},
+    const nlohmann::json body = {{"mesh", {{"glb_base64", seam::api::encode_base64("ok:b64")}}},
                                  {"method", "mst"}};
     auto r = cli->Post("/seam", body.dump(), "application/json");
     REQUIRE(r);

@@ -1,0 +1,78 @@
+// The parameters of POST /seam (API.md "Parameters" and the v2 additions) and their parsing
+// from JSON or the query string. Shared by the HTTP server and the command line.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/error.h"
+#include "core/extrema/extrema.h"
+#include "core/seam/seam.h"
+#include "core/uv/parameterize.h"
+
+namespace seam::api {
+
+/// How the extrema are chosen (API.md "extrema").
+struct ExtremaSpec {
+  bool automatic = true;                           ///< "auto", or {"auto": true, ...}
+  std::vector<std::uint32_t> indices;              ///< input vertex indices (include list)
+  std::vector<std::array<double, 3>> positions;    ///< snapped to the nearest vertex
+  std::vector<std::uint32_t> exclude;              ///< input vertex indices to drop from auto
+  core::ExtremaOptions auto_options;
+
+  /// Explicit extrema (indices and positions) name vertices of one primitive.
+  bool names_vertices() const { return !indices.empty() || !positions.empty() || !exclude.empty(); }
+};
+
+enum class OutputFormat { kJson, kGlb };
+
+/// One entry of `primitives` (API.md v2 "Whole assets").
+struct PrimitiveSelector {
+  std::optional<std::uint32_t> mesh;       ///< the mesh index, or
+  std::string mesh_name;                   ///< the mesh's name (when mesh is nullopt)
+  std::optional<std::uint32_t> primitive;  ///< nullopt: every triangle primitive of the mesh
+  std::optional<ExtremaSpec> extrema;      ///< nullopt: the request's top-level extrema
+};
+
+/// The parameters of POST /seam.
+struct SeamParams {
+  /// The extrema of every processed primitive without its own (a list entry's `extrema`).
+  ExtremaSpec extrema;
+  /// v1's selection: set when the request names `mesh` or `primitive`; exactly that one
+  /// primitive (the other index 0) is processed.
+  std::optional<std::uint32_t> mesh;
+  std::optional<std::uint32_t> primitive;
+  /// v2's selection: nullopt = "all" (every triangle primitive of every mesh), the default
+  /// when neither mesh nor primitive is given.
+  std::optional<std::vector<PrimitiveSelector>> primitives;
+  core::SeamMethod method = core::SeamMethod::kSkeleton;
+  /// nullopt = "none"; the default is the core's default (the lowest-distortion flip-free method).
+  std::optional<core::UvMethod> uv = core::UvOptions{}.method;
+  OutputFormat output = OutputFormat::kJson;
+  std::optional<bool> draco;  ///< nullopt = as each primitive was in the input
+  /// Skeleton only: the local re-optimisation after §4.4 (core::SeamOptions::refine).
+  bool refine = core::SeamOptions{}.refine;
+  double weld_epsilon = 0.0;
+  /// Repair what the builder would refuse (core::repair_mesh: non-manifold edges split into
+  /// sheets, orientation made consistent, degenerate faces left out of the topology but kept
+  /// in the asset). false: v1's 422s (pinched vertices are split either way).
+  bool repair = true;
+};
+
+/// Parses the parameter object (the multipart `params` part, or the JSON body minus "mesh").
+/// Unknown keys are rejected so typos are not silent. Errors: kInvalidParameter naming the
+/// parameter (details.parameter), also for `primitives` given together with mesh/primitive.
+ApiResult<SeamParams> params_from_json(const nlohmann::json& params);
+
+/// Parses query-string parameters (`?extrema=12,345&method=mst&uv=none&primitives=all`);
+/// each value becomes the JSON it stands for, then params_from_json's rules apply.
+/// Errors: kInvalidParameter.
+ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string, std::string>>& query);
+
+}  // namespace seam::api

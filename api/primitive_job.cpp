@@ -1,0 +1,604 @@
+// One primitive: weld -> canonical order -> repair -> build -> extrema -> seam -> cut -> flatten.
+#include "api/primitive_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <optional>
+#include <unordered_map>
+
+#include "core/mesh/cut.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/repair.h"
+#include "core/mesh/split_pinched.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/vertex_order.h"
+#include "core/mesh/weld.h"
+
+namespace seam::api {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+ApiError timeout(const char* stage) {
+  return make_api_error(ApiErrorCode::kTimeout, std::string("the computation exceeded the time budget during ") + stage);
+}
+
+// The mesh the core sees, numbered canonically: welded vertices along a Z-order curve of their
+// positions (canonical, and neighbours close in memory: Dijkstra runs ~40% faster than in the
+// input's order of a subdivided mesh, bench/mesh_bench.cpp), faces in order of their (rotated)
+// vertex triples. Vertex order, face order and vertex splits of the input then cannot change
+// the seam: GLB, split-vertex GLB and Draco (which reorders both) of one surface give the same
+// result.
+struct Canonical {
+  std::vector<core::Vec3> positions;
+  std::vector<core::Triangle> triangles;
+  std::vector<std::uint32_t> input_to_vertex;  // input vertex -> canonical vertex
+  std::vector<std::uint32_t> vertex_to_input;  // canonical vertex -> smallest input index
+  std::vector<std::uint32_t> face_to_input;    // canonical face -> input triangle
+  std::vector<std::uint32_t> input_to_face;    // input triangle -> canonical face
+  // After repair (or split_pinched): vertices beyond the welded ones are copies made by the
+  // splits, and faces are the kept ones. face_to_input/input_to_face then speak of the mesh's
+  // faces; an input triangle left out (degenerate) maps to kNoFace and is listed below.
+  std::vector<std::uint32_t> vertex_to_welded;  // vertex -> the welded vertex it is or copies
+  std::vector<std::uint8_t> reoriented;         // per mesh face: winding reversed by the repair
+  std::vector<std::uint32_t> degenerate_inputs; // input triangles left out of the topology
+  std::size_t welded_vertices = 0;
+  core::RepairCounts repairs;
+};
+
+constexpr std::uint32_t kNoFace = core::RepairedMesh::kNoFace;
+
+Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Triangle>& input_triangles) {
+  Canonical c;
+  const std::size_t wn = weld.positions.size();
+  c.welded_vertices = wn;
+  const std::vector<std::uint32_t> order = core::spatial_order(weld.positions);
+  std::vector<std::uint32_t> rank(wn);
+  c.positions.resize(wn);
+  for (std::uint32_t k = 0; k < wn; ++k) {
+    rank[order[k]] = k;
+    c.positions[k] = weld.positions[order[k]];
+  }
+  c.input_to_vertex.resize(weld.input_to_welded.size());
+  c.vertex_to_input.assign(wn, std::numeric_limits<std::uint32_t>::max());
+  for (std::size_t i = 0; i < weld.input_to_welded.size(); ++i) {
+    const std::uint32_t v = rank[weld.input_to_welded[i]];
+    c.input_to_vertex[i] = v;
+    c.vertex_to_input[v] = std::min(c.vertex_to_input[v], static_cast<std::uint32_t>(i));
+  }
+  std::vector<core::Triangle> rotated(input_triangles.size());
+  for (std::size_t t = 0; t < input_triangles.size(); ++t) {
+    core::Triangle tri;
+    for (int k = 0; k < 3; ++k) tri[static_cast<std::size_t>(k)] = c.input_to_vertex[input_triangles[t][static_cast<std::size_t>(k)]];
+    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+    rotated[t] = tri;
+  }
+  c.face_to_input.resize(rotated.size());
+  for (std::uint32_t t = 0; t < rotated.size(); ++t) c.face_to_input[t] = t;
+  std::stable_sort(c.face_to_input.begin(), c.face_to_input.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return rotated[a] < rotated[b]; });
+  c.input_to_face.resize(rotated.size());
+  c.triangles.resize(rotated.size());
+  for (std::uint32_t f = 0; f < rotated.size(); ++f) {
+    c.input_to_face[c.face_to_input[f]] = f;
+    c.triangles[f] = rotated[c.face_to_input[f]];
+  }
+  return c;
+}
+
+// A welded vertex where several fans of triangles meet only at that vertex (scans, CGAL's cow,
+// and split-vertex assets whose welding closes two sheets at a point) becomes one vertex per
+// fan. The copies map back to the welded vertex and so to the same input vertex; the split is
+// numbered from the canonical mesh, so it is as independent of the input order as the rest.
+void split_pinched(Canonical& c) {
+  core::PinchSplit split = core::split_pinched_vertices(c.positions, c.triangles);
+  c.repairs.pinched_vertices = split.pinched_vertices;
+  for (std::size_t v = c.vertex_to_input.size(); v < split.positions.size(); ++v) {
+    c.vertex_to_input.push_back(c.vertex_to_input[split.source[v]]);
+  }
+  c.vertex_to_welded = std::move(split.source);
+  c.positions = std::move(split.positions);
+  c.triangles = std::move(split.triangles);
+  c.reoriented.assign(c.triangles.size(), 0);
+}
+
+// repair: true. core::repair_mesh on the canonical soup (so the repair, too, is independent of
+// the input order); the maps are composed so that they still lead to input indices.
+void repair(Canonical& c) {
+  core::RepairedMesh r = core::repair_mesh(c.positions, c.triangles);
+  for (std::size_t v = c.vertex_to_input.size(); v < r.positions.size(); ++v) {
+    c.vertex_to_input.push_back(c.vertex_to_input[r.vertex_source[v]]);
+  }
+  std::vector<std::uint32_t> face_to_input(r.face_source.size());
+  for (std::size_t f = 0; f < face_to_input.size(); ++f) face_to_input[f] = c.face_to_input[r.face_source[f]];
+  for (auto& f : c.input_to_face) f = r.input_to_face[f];
+  for (auto f : r.degenerate_faces) c.degenerate_inputs.push_back(c.face_to_input[f]);
+  std::sort(c.degenerate_inputs.begin(), c.degenerate_inputs.end());
+  c.face_to_input = std::move(face_to_input);
+  c.vertex_to_welded = std::move(r.vertex_source);
+  c.positions = std::move(r.positions);
+  c.triangles = std::move(r.triangles);
+  c.reoriented = std::move(r.reoriented);
+  c.repairs = r.counts;
+}
+
+// What the builder refused, recounted over the whole soup in input numbering (the builder names
+// canonical elements and stops at 8), so the message, the count and `details` agree.
+constexpr std::size_t kListedElements = 100;
+
+json with_hint(json details, std::size_t count, const char* hint) {
+  details["count"] = count;
+  details["hint"] = hint;
+  return details;
+}
+
+ApiError degenerate_faces_error(const Canonical& canon, const PrimitiveData& data) {
+  std::vector<std::uint32_t> faces;
+  for (std::uint32_t f = 0; f < data.mesh.triangles.size(); ++f) {
+    const core::Triangle& t = canon.triangles[canon.input_to_face[f]];
+    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+    const auto& p = canon.positions;
+    if (repeated || (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).squaredNorm() == 0.0) faces.push_back(f);
+  }
+  if (faces.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder found a degenerate face, the recount none");
+  const core::Triangle& t = data.mesh.triangles[faces[0]];
+  const char* hint = "repair: true leaves them out of the topology and keeps them in the asset";
+  const std::size_t count = faces.size();
+  faces.resize(std::min(count, kListedElements));
+  return make_api_error(ApiErrorCode::kDegenerateFace,
+                        std::to_string(count) + (count == 1 ? " face is" : " faces are") +
+                            " degenerate after welding (a repeated vertex or zero area), first face " +
+                            std::to_string(faces[0]) + " (vertices " + std::to_string(t[0]) + ", " +
+                            std::to_string(t[1]) + ", " + std::to_string(t[2]) + "); " + hint,
+                        with_hint({{"faces", faces}}, count, hint));
+}
+
+// Edges of three or more faces (non_manifold), or of two faces traversing them the same way.
+ApiError edge_error(ApiErrorCode code, const Canonical& canon) {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;  // (undirected key, tail)
+  for (const auto& t : canon.triangles) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint64_t a = t[k], b = t[(k + 1) % 3];
+      uses.emplace_back((std::min(a, b) << 32) | std::max(a, b), t[k]);
+    }
+  }
+  std::sort(uses.begin(), uses.end());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i + 1;
+    while (j < uses.size() && uses[j].first == uses[i].first) ++j;
+    const bool bad = code == ApiErrorCode::kNonManifoldEdge ? j - i > 2 : j - i == 2 && uses[i].second == uses[i + 1].second;
+    if (bad) {
+      const std::uint32_t a = canon.vertex_to_input[uses[i].first >> 32];
+      const std::uint32_t b = canon.vertex_to_input[uses[i].first & 0xffffffffu];
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    i = j;
+  }
+  if (edges.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder refused an edge, the recount found none");
+  std::sort(edges.begin(), edges.end());
+  const std::size_t count = edges.size();
+  const bool fin = code == ApiErrorCode::kNonManifoldEdge;
+  const char* hint = fin ? "repair: true splits these edges into manifold sheets"
+                         : "repair: true reverses the faces that disagree with their sheet";
+  json listed = json::array();
+  for (std::size_t e = 0; e < std::min(count, kListedElements); ++e) listed.push_back({edges[e].first, edges[e].second});
+  return make_api_error(code,
+                        std::to_string(count) + (count == 1 ? " edge is " : " edges are ") +
+                            (fin ? "shared by three or more faces" : "traversed in the same direction by both of their faces (flipped faces)") +
+                            ", first the edge between vertices " + std::to_string(edges[0].first) + " and " +
+                            std::to_string(edges[0].second) + "; " + hint,
+                        with_hint({{"edges", std::move(listed)}}, count, hint));
+}
+
+// Core errors name canonical vertices or faces; the contract speaks in input indices.
+ApiError map_core_error(const core::Error& error, const Canonical& canon, core::ErrorCode code) {
+  ApiError out = from_core(error);
+  if (!out.details.contains("elements")) return out;
+  const bool vertices = code == core::ErrorCode::kNonManifoldEdge || code == core::ErrorCode::kNonManifoldVertex ||
+                        code == core::ErrorCode::kInconsistentOrientation || code == core::ErrorCode::kNonFinitePosition;
+  const bool faces = code == core::ErrorCode::kDegenerateFace;
+  if (!vertices && !faces) return out;
+  const auto& map = vertices ? canon.vertex_to_input : canon.face_to_input;
+  json mapped = json::array();
+  for (const auto& e : out.details["elements"]) {
+    const auto w = e.get<std::uint32_t>();
+    mapped.push_back(w < map.size() ? map[w] : w);
+  }
+  out.details[vertices ? "vertices" : "faces"] = std::move(mapped);
+  out.details.erase("elements");
+  return out;
+}
+
+// The asset's vertices after the cut: one per (input vertex, cut vertex) pair, and every input
+// triangle over them, in input order.
+struct OutputVertices {
+  CutPrimitive primitive;                   // source_vertex and triangles filled
+  std::vector<core::VertexId> cut_vertex;   // per output vertex: the cut vertex its UV comes from
+};
+
+// Per welded vertex, a cut vertex to borrow for corners the topology left out (degenerate
+// faces): the lowest cut copy in some face, else the lowest copy at all.
+std::vector<core::VertexId> welded_to_cut(const Canonical& canon, const core::CutMesh& cut) {
+  std::vector<core::VertexId> out(canon.welded_vertices);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::uint32_t v = 0; v < cut.mesh.num_vertices(); ++v) {
+      const core::VertexId cv(v);
+      if (pass == 0 && cut.mesh.is_isolated(cv)) continue;
+      core::VertexId& slot = out[canon.vertex_to_welded[cut.to_original[cv].index()]];
+      if (!slot.valid()) slot = cv;
+    }
+  }
+  return out;
+}
+
+// Kept faces keep their corners (matched by vertex, not by trusting the rotation) and take
+// the repaired winding, so a reoriented face is written reoriented. A face left out of the
+// topology (degenerate after welding) is kept in the asset: its corners borrow a cut vertex
+// of their welded vertex, or of another corner of the face when theirs is in no face, so its
+// UVs come from its vertices (a zero-area UV triangle when it repeats a welded vertex).
+ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const Canonical& canon,
+                                              const core::CutMesh& cut) {
+  OutputVertices out;
+  CutPrimitive& prim = out.primitive;
+  prim.triangles.resize(data.mesh.triangles.size());
+  std::unordered_map<std::uint64_t, std::uint32_t> output_index;
+  output_index.reserve(data.mesh.positions.size() * 5 / 4);
+  auto emit = [&](std::uint32_t input, core::VertexId cv) {
+    const std::uint64_t key = (static_cast<std::uint64_t>(input) << 32) | cv.value();
+    auto [it, inserted] = output_index.try_emplace(key, static_cast<std::uint32_t>(prim.source_vertex.size()));
+    if (inserted) {
+      prim.source_vertex.push_back(input);
+      out.cut_vertex.push_back(cv);
+    }
+    return it->second;
+  };
+  for (std::size_t f = 0; f < data.mesh.triangles.size(); ++f) {
+    const std::uint32_t mf = canon.input_to_face[f];
+    if (mf == kNoFace) continue;
+    const auto corners = cut.mesh.face_vertices(core::FaceId(mf));
+    core::Triangle& tri = prim.triangles[f];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t input = data.mesh.triangles[f][k];
+      const std::uint32_t welded = canon.input_to_vertex[input];
+      core::VertexId cv;
+      for (auto c : corners) {
+        if (canon.vertex_to_welded[cut.to_original[c].index()] == welded) cv = c;
+      }
+      if (!cv.valid()) {
+        return make_api_error(ApiErrorCode::kInternal, "cut face " + std::to_string(f) + " does not match its input triangle");
+      }
+      tri[k] = emit(input, cv);
+    }
+    if (canon.reoriented[mf]) std::swap(tri[1], tri[2]);
+  }
+  if (canon.degenerate_inputs.empty()) return out;
+  const std::vector<core::VertexId> borrow = welded_to_cut(canon, cut);
+  for (const std::uint32_t f : canon.degenerate_inputs) {
+    std::array<core::VertexId, 3> cv;
+    core::VertexId in_face;  // a corner's cut vertex that lies in some face
+    for (std::size_t k = 0; k < 3; ++k) {
+      cv[k] = borrow[canon.input_to_vertex[data.mesh.triangles[f][k]]];
+      if (!cv[k].valid()) return make_api_error(ApiErrorCode::kInternal, "degenerate face " + std::to_string(f) + " lost a vertex");
+      if (!in_face.valid() && !cut.mesh.is_isolated(cv[k])) in_face = cv[k];
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+      const core::VertexId c = cut.mesh.is_isolated(cv[k]) && in_face.valid() ? in_face : cv[k];
+      prim.triangles[f][k] = emit(data.mesh.triangles[f][k], c);
+    }
+  }
+  return out;
+}
+
+// The builder's refusals in input numbering; the rest as the core says them.
+ApiError build_error(const core::Error& error, const Canonical& canon, const PrimitiveData& data) {
+  switch (error.code) {
+    case core::ErrorCode::kDegenerateFace: return degenerate_faces_error(canon, data);
+    case core::ErrorCode::kNonManifoldEdge: return edge_error(ApiErrorCode::kNonManifoldEdge, canon);
+    case core::ErrorCode::kInconsistentOrientation: return edge_error(ApiErrorCode::kInconsistentOrientation, canon);
+    case core::ErrorCode::kInvalidArgument:
+    case core::ErrorCode::kEmptyMesh:
+    case core::ErrorCode::kIndexOutOfRange:
+    case core::ErrorCode::kNonFinitePosition:
+    case core::ErrorCode::kNonManifoldVertex:
+    case core::ErrorCode::kTooManyTerminals:
+    case core::ErrorCode::kTopologyViolation:
+    case core::ErrorCode::kSolverFailed:
+    case core::ErrorCode::kCancelled: break;
+  }
+  return map_core_error(error, canon, error.code);
+}
+
+// Automatic extrema minus `excluded`, at most `budget` of them: the most prominent (ties: the
+// lower vertex id), kept in the detector's order (by component, most prominent first). The
+// detector's per-component cap is lowered to the budget too, so it never ranks more.
+ApiResult<std::vector<core::VertexId>> automatic_extrema(const ExtremaSpec& spec, std::vector<core::VertexId> excluded,
+                                                         const core::HalfedgeMesh& mesh, std::size_t budget,
+                                                         unsigned threads, const core::CancelToken& cancel) {
+  if (budget == 0) return std::vector<core::VertexId>{};
+  core::ExtremaOptions options = spec.auto_options;
+  options.threads = threads;
+  if (options.max_count == 0 || options.max_count > budget) options.max_count = budget;
+  auto found = core::detect_extrema(mesh, options, cancel);
+  if (!found.ok()) return from_core(found.error());
+  std::sort(excluded.begin(), excluded.end());
+  std::vector<core::Extremum> kept;
+  for (const auto& e : found->extrema) {
+    if (!std::binary_search(excluded.begin(), excluded.end(), e.vertex)) kept.push_back(e);
+  }
+  if (kept.size() > budget) {
+    std::vector<std::size_t> rank(kept.size());
+    for (std::size_t i = 0; i < rank.size(); ++i) rank[i] = i;
+    std::stable_sort(rank.begin(), rank.end(), [&](std::size_t a, std::size_t b) {
+      if (kept[a].prominence != kept[b].prominence) return kept[a].prominence > kept[b].prominence;
+      return kept[a].vertex < kept[b].vertex;
+    });
+    std::vector<bool> keep(kept.size(), false);
+    for (std::size_t i = 0; i < budget; ++i) keep[rank[i]] = true;
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      if (keep[i]) kept[w++] = kept[i];
+    }
+    kept.resize(w);
+  }
+  std::vector<core::VertexId> out;
+  out.reserve(kept.size());
+  for (const auto& e : kept) out.push_back(e.vertex);
+  return out;
+}
+
+// Explicit extrema first in the budget (the client named them), then the automatic ones.
+ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, const PrimitiveData& data,
+                                                       const Canonical& canon, const core::HalfedgeMesh& mesh,
+                                                       const PrimitiveJobOptions& job, const core::CancelToken& cancel) {
+  const std::size_t n = data.mesh.positions.size();
+  auto check = [&](std::uint32_t i, const char* what) -> std::optional<ApiError> {
+    if (i < n) return std::nullopt;
+    return make_api_error(ApiErrorCode::kExtremumOutOfRange,
+                          std::string(what) + " vertex " + std::to_string(i) + " is out of range: the primitive has " +
+                              std::to_string(n) + " vertices",
+                          {{"index", i}, {"vertices", n}});
+  };
+  SEAM_TRY(const std::size_t explicit_count, explicit_extrema_count(spec, job.max_extrema));
+  std::vector<core::VertexId> result;
+  // Copies of one input vertex (pinched or repaired splits) are one extremum: the response
+  // names input vertices, and it never names one twice.
+  auto add = [&](core::VertexId v) {
+    const std::uint32_t input = canon.vertex_to_input[v.index()];
+    if (std::none_of(result.begin(), result.end(),
+                     [&](core::VertexId u) { return canon.vertex_to_input[u.index()] == input; })) {
+      result.push_back(v);
+    }
+  };
+  if (spec.automatic) {
+    std::vector<core::VertexId> excluded;
+    for (auto i : spec.exclude) {
+      if (auto e = check(i, "excluded")) return *e;
+      excluded.push_back(core::VertexId(canon.input_to_vertex[i]));
+    }
+    SEAM_TRY(const std::vector<core::VertexId> found,
+             automatic_extrema(spec, std::move(excluded), mesh, job.max_extrema - explicit_count, job.threads, cancel));
+    for (auto v : found) add(v);
+  }
+  for (auto i : spec.indices) {
+    if (auto e = check(i, "extremum")) return *e;
+    add(core::VertexId(canon.input_to_vertex[i]));
+  }
+  // Snap each position to the nearest vertex that lies on the surface (isolated vertices
+  // cannot be terminals).
+  for (const auto& p : spec.positions) {
+    const core::Vec3 q(p[0], p[1], p[2]);
+    double best = std::numeric_limits<double>::infinity();
+    core::VertexId best_v;
+    for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.is_isolated(core::VertexId(v))) continue;
+      const double d = (mesh.position(core::VertexId(v)) - q).squaredNorm();
+      if (d < best) {
+        best = d;
+        best_v = core::VertexId(v);
+      }
+    }
+    if (best_v.valid()) add(best_v);
+  }
+  return result;
+}
+
+
+// The surface the core sees: the canonical, repaired mesh and its topology.
+struct Surface {
+  Canonical canon;
+  core::HalfedgeMesh mesh;
+  core::Topology topology;
+  std::size_t welded_vertices = 0;
+};
+
+ApiResult<Surface> prepare_surface(const PrimitiveData& data, const SeamParams& params, const core::CancelToken& cancel) {
+  auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
+  if (!weld.ok()) return from_core(weld.error());
+  Canonical canon = canonicalize(*weld, data.mesh.triangles);
+  if (params.repair) repair(canon);
+  else split_pinched(canon);
+  auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
+  if (!built.ok()) return build_error(built.error(), canon, data);
+  core::Topology topology = core::compute_topology(*built);
+  const std::size_t welded = weld->positions.size();
+  return Surface{std::move(canon), std::move(built).value(), std::move(topology), welded};
+}
+
+// The seam in input numbering, for the response and the primitive's extras.seam.
+json seam_summary(const core::SeamResult& seam, const std::vector<core::EdgeId>& cut_edges, const Surface& s,
+                  core::SeamMethod method) {
+  const core::HalfedgeMesh& mesh = s.mesh;
+  auto input_of = [&](core::VertexId v) { return s.canon.vertex_to_input[v.index()]; };
+  auto edge_pairs = [&](const std::vector<core::EdgeId>& edges) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    for (auto e : edges) {
+      const auto h = core::HalfedgeMesh::halfedge(e);
+      const auto a = input_of(mesh.tail(h)), b = input_of(mesh.head(h));
+      pairs.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(pairs.begin(), pairs.end());
+    json out = json::array();
+    for (const auto& [a, b] : pairs) out.push_back({a, b});
+    return out;
+  };
+  // First occurrence kept: copies of one input vertex (splits, cut) are listed once.
+  auto vertex_list = [&](const std::vector<core::VertexId>& vs) {
+    json out = json::array();
+    std::vector<std::uint32_t> seen;
+    for (auto v : vs) {
+      const std::uint32_t i = input_of(v);
+      if (std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
+      seen.push_back(i);
+      out.push_back(i);
+    }
+    return out;
+  };
+  json polylines = json::array();
+  for (const auto& branch : seam.branches) {
+    json line = json::array();
+    for (auto v : branch) {
+      const auto& p = mesh.position(v);
+      line.push_back({p.x(), p.y(), p.z()});
+    }
+    polylines.push_back(std::move(line));
+  }
+  return {{"method", core::seam_method_name(method)},
+          {"edges", edge_pairs(cut_edges)},
+          {"length", seam.length},
+          {"extrema", vertex_list(seam.extrema)},
+          {"terminals", vertex_list(seam.terminals)},
+          {"steiner_points", vertex_list(seam.steiner_points)},
+          {"cut_graph_edges", edge_pairs(seam.cut_graph_edges)},
+          {"cut_graph_length", seam.cut_graph_length},
+          {"polylines", std::move(polylines)}};
+}
+
+json topology_summary(const PrimitiveData& data, const Surface& s) {
+  return {{"vertices", data.mesh.positions.size()},
+          {"faces", data.mesh.triangles.size()},
+          {"welded_vertices", s.welded_vertices},
+          {"pinched_vertices_split", s.canon.repairs.pinched_vertices},
+          {"components", s.topology.components.size()},
+          {"genus", s.topology.total_genus()},
+          {"boundary_loops", s.topology.boundary_loops.size()}};
+}
+
+json repairs_summary(const core::RepairCounts& r) {
+  return {{"non_manifold_edges", r.non_manifold_edges},
+          {"reoriented_faces", r.reoriented_faces},
+          {"degenerate_faces", r.degenerate_faces},
+          {"pinched_vertices", r.pinched_vertices},
+          {"split_off_faces", r.split_off_faces}};
+}
+
+json uv_summary(const core::UvResult& uv) {
+  const auto& d = uv.distortion;
+  return {{"method", core::uv_method_name(uv.method_used)},
+          {"area_distortion", d.area},
+          {"area_distortion_geometric", d.area_geometric},
+          {"angle_distortion", d.angle},
+          {"stretch_l2", d.stretch_l2},
+          {"stretch_linf", d.stretch_linf},
+          {"flipped", d.flipped}};
+}
+
+// The new UVs per output vertex. glTF puts the texture origin top-left with v growing down;
+// v is flipped so a counter-clockwise triangle stays counter-clockwise in texture space.
+std::vector<std::array<float, 2>> output_uvs(const core::UvResult& uv, const std::vector<core::VertexId>& cut_vertex) {
+  std::vector<std::array<float, 2>> out;
+  out.reserve(cut_vertex.size());
+  for (auto c : cut_vertex) {
+    const core::Vec2& p = uv.uv[c];
+    out.push_back({static_cast<float>(p.x()), static_cast<float>(1.0 - p.y())});
+  }
+  return out;
+}
+
+}  // namespace
+
+// The cost cap comes first: an over-long explicit list is refused before the asset is parsed.
+ApiResult<std::size_t> explicit_extrema_count(const ExtremaSpec& spec, std::size_t max_extrema) {
+  const std::size_t count = spec.indices.size() + spec.positions.size();
+  if (count > max_extrema) {
+    return make_api_error(ApiErrorCode::kTooManyExtrema,
+                          "extrema: " + std::to_string(count) + " explicit extrema, more than the limit of " +
+                              std::to_string(max_extrema) + " (the server's --max-extrema)",
+                          {{"count", count}, {"limit", max_extrema}});
+  }
+  return count;
+}
+
+
+ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const ExtremaSpec& extrema,
+                                             const SeamParams& params, const PrimitiveJobOptions& options,
+                                             const core::CancelToken& cancel) {
+  json timings = json::object();
+  auto t = Clock::now();
+  SEAM_TRY(const Surface surface, prepare_surface(data, params, cancel));
+  timings["weld"] = ms_since(t);
+  if (cancel.is_cancelled()) return timeout("welding");
+
+  t = Clock::now();
+  SEAM_TRY(const std::vector<core::VertexId> terminals,
+           resolve_extrema(extrema, data, surface.canon, surface.mesh, options, cancel));
+  timings["extrema"] = ms_since(t);
+
+  t = Clock::now();
+  core::SeamOptions seam_options;
+  seam_options.method = params.method;
+  seam_options.refine = params.refine;
+  seam_options.threads = std::max(1u, options.threads);
+  auto seam = core::compute_seam(surface.mesh, terminals, seam_options, cancel);
+  if (!seam.ok()) return map_core_error(seam.error(), surface.canon, seam.error().code);
+  timings["seam"] = ms_since(t);
+
+  t = Clock::now();
+  const std::vector<core::EdgeId> cut_edges = core::all_cut_edges(*seam);
+  auto cut = core::cut_along_edges(surface.mesh, cut_edges);
+  if (!cut.ok()) return from_core(cut.error());
+  const core::Topology cut_topology = core::compute_topology(cut->mesh);
+  timings["cut"] = ms_since(t);
+  if (cancel.is_cancelled()) return timeout("cutting");
+
+  t = Clock::now();
+  std::optional<core::UvResult> uv;
+  if (params.uv) {
+    core::UvOptions uv_options;
+    uv_options.method = *params.uv;
+    auto flattened = core::parameterize(cut->mesh, uv_options, cancel);
+    if (!flattened.ok()) return from_core(flattened.error());
+    uv = std::move(flattened).value();
+  }
+  timings["uv"] = ms_since(t);
+
+  t = Clock::now();
+  SEAM_TRY(OutputVertices output, map_output_vertices(data, surface.canon, *cut));
+  PrimitiveResult result;
+  result.cut = std::move(output.primitive);
+  if (uv) result.cut.uv = output_uvs(*uv, output.cut_vertex);
+  json seam_json = seam_summary(*seam, cut_edges, surface, params.method);
+  result.cut.seam_extras = {{"method", seam_json["method"]},       {"length", seam->length},
+                            {"edges", seam_json["edges"]},         {"extrema", seam_json["extrema"]},
+                            {"terminals", seam_json["terminals"]}, {"steiner_points", seam_json["steiner_points"]},
+                            {"cut_graph_edges", seam_json["cut_graph_edges"]}};
+  if (uv) result.cut.seam_extras["uv_method"] = core::uv_method_name(uv->method_used);
+  timings["output"] = ms_since(t);
+  result.summary = {{"seam", std::move(seam_json)},
+                    {"topology", topology_summary(data, surface)},
+                    {"repairs", repairs_summary(surface.canon.repairs)},
+                    {"cut", {{"vertices", cut->mesh.num_vertices()},
+                             {"faces", cut->mesh.num_faces()},
+                             {"euler_characteristic", cut_topology.euler_characteristic()},
+                             {"boundary_loops", cut_topology.boundary_loops.size()},
+                             {"asset_vertices", result.cut.source_vertex.size()}}},
+                    {"uv", uv ? uv_summary(*uv) : json(nullptr)},
+                    {"timings_ms", std::move(timings)}};
+  return result;
+}
+
+}  // namespace seam::api
