@@ -43,18 +43,22 @@ HalfedgeMesh build(const IndexedMesh& soup) {
 
 // The disc the service flattens: the skeleton seam through automatic extrema, or (cut_graph)
 // only the cut graph, which leaves one chart per component with every handle opened.
-Result<CutMesh> disc_of(const HalfedgeMesh& mesh, bool cut_graph_only) {
+Result<CutMesh> disc_of(const HalfedgeMesh& mesh, bool cut_graph_only, SeamMethod method = SeamMethod::kSkeleton) {
   if (cut_graph_only) {
     SEAM_TRY(std::vector<EdgeId> edges, compute_cut_graph(mesh));
-    return cut_along_edges(mesh, edges);
+    if (!edges.empty()) return cut_along_edges(mesh, edges);
+    // Genus 0: the README's "cut graph" row is the seam through no extrema.
+    SEAM_TRY(SeamResult seam, compute_seam(mesh, {}, {.method = SeamMethod::kSkeleton}));
+    return cut_along_edges(mesh, all_cut_edges(seam));
   }
   SEAM_TRY(std::vector<VertexId> extrema, find_extrema(mesh));
-  SEAM_TRY(SeamResult seam, compute_seam(mesh, extrema, {}));
+  SEAM_TRY(SeamResult seam, compute_seam(mesh, extrema, {.method = method}));
   return cut_along_edges(mesh, all_cut_edges(seam));
 }
 
-void overlap_row(const std::string& name, const HalfedgeMesh& mesh, bool cut_graph_only) {
-  auto disc = disc_of(mesh, cut_graph_only);
+void overlap_row(const std::string& name, const HalfedgeMesh& mesh, bool cut_graph_only,
+                 SeamMethod method = SeamMethod::kSkeleton) {
+  auto disc = disc_of(mesh, cut_graph_only, method);
   if (!disc.ok()) {
     std::printf("%-16s cut failed: %s\n", name.c_str(), disc.error().message.c_str());
     return;
@@ -73,7 +77,7 @@ void overlap_row(const std::string& name, const HalfedgeMesh& mesh, bool cut_gra
     }
     const Distortion& d = r->distortion;
     std::printf("%-16s %7zu %5d %-9s %-6s %8.1f %7.2f %8.4f %8.3f %7.3f %7.3f %5zu %8.5f %5zu %5zu",
-                name.c_str(), mesh.num_faces(), topo.total_genus(), cut_graph_only ? "cutgraph" : "skeleton",
+                name.c_str(), mesh.num_faces(), topo.total_genus(), cut_graph_only ? "cutgraph" : seam_method_name(method),
                 injective ? "after" : "before", ms, r->overlap_ms, d.area_geometric, d.angle, d.stretch_l2,
                 d.area, d.flipped, r->overlap_fraction, r->overlapping_starts, r->charts_not_injective);
     if (injective) {
@@ -297,12 +301,30 @@ void pack_scale_section() {
   }
 }
 
+// Every row of the README's distortion table (distortion_bench): each seam, before and after.
+void readme_section() {
+  std::printf("== README distortion table rows: SLIM fold-free only (before) vs injective (after)\n");
+  for (const char* name : {"hand", "camel", "dino", "elephant", "armadillo", "homer"}) {
+    const HalfedgeMesh mesh = build(sb::load_cgal(name));
+    overlap_row(name, mesh, true);
+    for (SeamMethod m : {SeamMethod::kMst, SeamMethod::kGreedy, SeamMethod::kSkeleton, SeamMethod::kOptimal}) {
+      overlap_row(name, mesh, false, m);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string what = argc > 1 ? argv[1] : "all";
   const bool quick = what == "quick";
   if (what == "overlap" || what == "all" || quick) overlap_section(quick);
+  if (what == "readme") readme_section();
+  if (what == "worst") {  // the rows where injectivity costs most (docs/uv.md)
+    overlap_row("man", build(sb::load_cgal("man")), false, SeamMethod::kSkeleton);
+    overlap_row("elephant", build(sb::load_cgal("elephant")), false, SeamMethod::kMst);
+    overlap_row("armadillo", build(sb::load_cgal("armadillo")), false, SeamMethod::kGreedy);
+  }
   if (what == "pack" || what == "all") {
     pack_section();
     pack_scale_section();

@@ -16,6 +16,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxProxyWeight = 1e8;
+constexpr int kHoldRounds = 8;     // rounds of holding colliding vertices per step
+constexpr int kResolveRounds = 2;  // of those, rounds that re-solve the proxy with them pinned
 
 // Per triangle: 3D area and the gradients of its three barycentric coordinates in an isometric
 // frame of its plane, so that the Jacobian of the map is J = sum_k uv_k g_k^T.
@@ -248,6 +250,14 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
     SEAM_ASSERT(it != end && *it == row);
     slot[t][entry] = it - system.innerIndexPtr();
   });
+  // The diagonal entry of each unknown (the first entry of its lower-triangle column), where a
+  // stiff spring pins a vertex that collides (see the line search).
+  std::vector<std::int64_t> diag_slot(static_cast<std::size_t>(nfree));
+  for (Eigen::Index col = 0; col < nfree; ++col) {
+    const std::int64_t first = system.outerIndexPtr()[col];
+    SEAM_ASSERT(system.innerIndexPtr()[first] == col);
+    diag_slot[static_cast<std::size_t>(col)] = first;
+  }
   SparseCholesky solver;
   solver.analyzePattern(system);
 
@@ -272,7 +282,8 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
   const double gap = 1e-4 * std::sqrt(area_3d);
   // A Tutte start is far from the optimum (its convex boundary squeezes whole regions), so it
   // gets three times the step budget.
-  const int max_iterations = result.tutte_start ? 3 * options.iterations : options.iterations;
+  int max_iterations = result.tutte_start ? 3 * options.iterations : options.iterations;
+  bool extended = false;
   for (int iter = 0; iter < max_iterations; ++iter) {
     if (cancel.is_cancelled()) return cancelled_error("SLIM");
     // Proxy: sum_t A_t |W_t (J_t - R_t)|^2. Its normal equations have block (k, l) =
@@ -358,16 +369,52 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
       if (collision.limited) {
         ++result.collision_limited_steps;
         collided = true;
+        // Contacts slow the descent: allow them the Tutte start's budget.
+        if (!extended) {
+          max_iterations = std::max(max_iterations, 3 * options.iterations);
+          extended = true;
+        }
         // Truncating the whole step at the first contact would stall every vertex for the
         // sake of a few. Instead hold the vertices of the colliding pairs where they are and
         // let the rest move (bounds recomputed for that direction, so the guarantees hold);
         // a few rounds, since holding some may expose other contacts.
         std::vector<Vec2> held = direction;
-        for (int round = 0; round < 4 && collision.limited; ++round) {
-          for (std::uint32_t v : collision.colliding) held[v] = Vec2::Zero();
+        std::vector<char> pinned(n, 0);
+        double spring = 0;
+        for (Eigen::Index k = 0; k < nfree; ++k) {
+          spring = std::max(spring, std::abs(system.valuePtr()[diag_slot[static_cast<std::size_t>(k)]]));
+        }
+        spring *= 1e6;
+        for (int round = 0; round < kHoldRounds && collision.limited; ++round) {
+          for (std::uint32_t v : collision.colliding) {
+            if (pinned[v]) continue;
+            pinned[v] = 1;
+            if (v == 0 || round >= kResolveRounds) continue;
+            // A stiff spring to its place: the re-solved proxy step then moves the free
+            // vertices as well as it can with these held (zeroing them alone may ascend).
+            for (int c = 0; c < block; ++c) system.valuePtr()[diag_slot[unknown(v, c)]] += spring;
+            rhs_at(v, 0) += spring * uv[v].x();
+            rhs_at(v, 1) += spring * uv[v].y();
+          }
+          if (round < kResolveRounds) {
+            solver.factorize(system);
+            if (solver.info() == Eigen::Success) {
+              const Eigen::MatrixXd xp = solver.solve(rhs);
+              if (xp.allFinite()) {
+                for (std::uint32_t v = 1; v < n; ++v) {
+                  held[v] = (block == 2 ? Vec2(xp(unknown(v, 0), 0), xp(unknown(v, 1), 0))
+                                        : Vec2(xp(unknown(v, 0), 0), xp(unknown(v, 0), 1))) -
+                            uv[v];
+                }
+              }
+            }
+          }
+          for (std::uint32_t v = 0; v < n; ++v) {
+            if (pinned[v]) held[v] = Vec2::Zero();
+          }
           const double held_step = std::min(1.0, 0.9 * max_injective_step(patch, uv, held));
           collision = max_collision_free_step(patch, uv, held, held_step, gap);
-          if (!collision.limited || round == 3) {
+          if (!collision.limited || round == kHoldRounds - 1) {
             const double bound = collision.limited ? 0.9 * collision.step : held_step;
             trial_energy = line_search(held, bound);
             searched = trial_energy < energy;
