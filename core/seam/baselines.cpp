@@ -164,9 +164,60 @@ Result<SteinerTree> greedy_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph
   return make_steiner_tree(mesh, edges, terminals, edge_weights);
 }
 
+namespace {
+
+// One Dreyfus–Wagner row grown along shortest paths: a multi-source Dijkstra seeded with the
+// whole row. After merging nearly every vertex is a seed, so the seeds are sorted once and
+// streamed in order alongside a heap that only holds improvements; that keeps the heap small
+// instead of pushing V entries per subset. With `lower` (a lower bound per vertex on what the
+// rest of any tree through it costs), states whose value plus that bound reaches `bound` are
+// dropped: a tree cheaper than `bound` never needs them (A*-like pruning, exact).
+Status grow_row(const EdgeGraph& graph, const std::vector<std::uint8_t>& is_terminal, std::uint32_t source,
+                double* row, std::uint32_t* brow, const double* lower, double bound, std::vector<Entry>& initial,
+                std::uint32_t& polls, const CancelToken& cancel) {
+  const std::size_t nv = graph.num_vertices();
+  initial.clear();
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (row[v] == kInf) continue;
+    if (lower && row[v] + lower[v] >= bound) {
+      row[v] = kInf;
+      continue;
+    }
+    initial.emplace_back(row[v], static_cast<std::uint32_t>(v));
+  }
+  std::sort(initial.begin(), initial.end());
+  std::size_t next_seed = 0;
+  MinQueue queue;
+  while (next_seed < initial.size() || !queue.empty()) {
+    if (cancel.poll(polls)) return cancelled_error("optimal seam");
+    Entry top;
+    if (queue.empty() || (next_seed < initial.size() && initial[next_seed] < queue.top())) {
+      top = initial[next_seed++];
+    } else {
+      top = queue.top();
+      queue.pop();
+    }
+    const auto [d, v] = top;
+    if (d > row[v]) continue;
+    if (is_terminal[v] && v != source) continue;  // reached as a leaf, never passed through
+    for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
+      const std::uint32_t w = graph.head[slot].value();
+      const double nd = d + graph.weight[slot];
+      if (nd < row[w] && (!lower || nd + lower[w] < bound)) {
+        row[w] = nd;
+        brow[w] = graph.halfedge[slot].value();
+        queue.emplace(nd, w);
+      }
+    }
+  }
+  return Ok{};
+}
+
+}  // namespace
+
 Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
                                  std::span<const VertexId> terminals, std::size_t max_terminals,
-                                 const CancelToken& cancel) {
+                                 const CancelToken& cancel, double upper_bound) {
   const std::size_t k = terminals.size();
   if (k > max_terminals) {
     return make_error(ErrorCode::kTooManyTerminals,
@@ -196,10 +247,35 @@ Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& grap
   std::vector<std::uint32_t> back(rows * nv, kNone);
   std::uint32_t polls = 0;
   std::vector<Entry> initial;
+  // With a bound, the singleton rows (terminal-avoiding distances) come first: the rest of a
+  // tree through v that still has to reach terminal t costs at least t's distance to v.
+  const bool bounded = upper_bound < kInf;
+  std::vector<double> root_distance, lower;
+  std::vector<std::uint32_t> scratch;
+  if (bounded) {
+    for (std::size_t i = 0; i <= m; ++i) {
+      double* row = i < m ? dp.data() + (std::size_t{1} << i) * nv : nullptr;
+      std::uint32_t* brow = i < m ? back.data() + (std::size_t{1} << i) * nv : nullptr;
+      if (i == m) {
+        root_distance.assign(nv, kInf);
+        scratch.assign(nv, kNone);
+        row = root_distance.data();
+        brow = scratch.data();
+      }
+      row[terminals[i].index()] = 0;
+      if (auto st = grow_row(graph, is_terminal, terminals[i].value(), row, brow, nullptr, kInf, initial, polls,
+                             cancel);
+          !st.ok()) {
+        return st.take_error();
+      }
+    }
+    lower.resize(nv);
+  }
   for (std::size_t s = 1; s < rows; ++s) {
     double* row = dp.data() + s * nv;
     std::uint32_t* brow = back.data() + s * nv;
     const bool singleton = (s & (s - 1)) == 0;
+    if (singleton && bounded) continue;  // done above
     std::uint32_t source = kNone;
     if (singleton) {
       const auto i = static_cast<std::size_t>(std::countr_zero(s));
@@ -226,43 +302,24 @@ Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& grap
         brow[t.index()] = kNone;
       }
     }
-    // Grow every partial tree along shortest paths: a multi-source Dijkstra seeded with the
-    // whole row. After merging nearly every vertex is a seed, so the seeds are sorted once and
-    // streamed in order alongside a heap that only holds improvements; that keeps the heap
-    // small instead of pushing V entries per subset.
-    initial.clear();
-    for (std::size_t v = 0; v < nv; ++v) {
-      if (row[v] < kInf) initial.emplace_back(row[v], static_cast<std::uint32_t>(v));
+    if (bounded) {
+      lower = root_distance;
+      for (std::size_t i = 0; i < m; ++i) {
+        if (s & (std::size_t{1} << i)) continue;
+        const double* ri = dp.data() + (std::size_t{1} << i) * nv;
+        for (std::size_t v = 0; v < nv; ++v) lower[v] = std::max(lower[v], ri[v]);
+      }
     }
-    std::sort(initial.begin(), initial.end());
-    std::size_t next_seed = 0;
-    MinQueue queue;
-    while (next_seed < initial.size() || !queue.empty()) {
-      if (cancel.poll(polls)) return cancelled_error("optimal seam");
-      Entry top;
-      if (queue.empty() || (next_seed < initial.size() && initial[next_seed] < queue.top())) {
-        top = initial[next_seed++];
-      } else {
-        top = queue.top();
-        queue.pop();
-      }
-      const auto [d, v] = top;
-      if (d > row[v]) continue;
-      if (is_terminal[v] && v != source) continue;  // reached as a leaf, never passed through
-      for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
-        const std::uint32_t w = graph.head[slot].value();
-        const double nd = d + graph.weight[slot];
-        if (nd < row[w]) {
-          row[w] = nd;
-          brow[w] = graph.halfedge[slot].value();
-          queue.emplace(nd, w);
-        }
-      }
+    if (auto st = grow_row(graph, is_terminal, source, row, brow, bounded ? lower.data() : nullptr, upper_bound,
+                           initial, polls, cancel);
+        !st.ok()) {
+      return st.take_error();
     }
   }
   const std::size_t full = rows - 1;
   const VertexId root = terminals[k - 1];
   if (dp[full * nv + root.index()] == kInf) {
+    if (bounded) return SteinerTree{};  // nothing shorter than the bound
     return make_error(ErrorCode::kInvalidArgument, "optimal seam: the terminals are not all connected");
   }
 

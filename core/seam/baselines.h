@@ -2,6 +2,7 @@
 // and the exact optimum the paper never measured against.
 #pragma once
 
+#include <limits>
 #include <span>
 
 #include "core/cancel.h"
@@ -24,10 +25,17 @@ Result<SteinerTree> greedy_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph
 
 /// The exact minimum Steiner tree in which every terminal is a leaf (Dreyfus–Wagner dynamic
 /// programming over terminal subsets, with paths never passing through a terminal).
-/// Errors: kTooManyTerminals above `max_terminals`, kCancelled.
+/// With a finite `upper_bound` (the length of a known full-component tree, slightly raised),
+/// states that cannot lead to a tree below it are dropped (their value plus the largest
+/// terminal-avoiding distance to a terminal still to join reaches the bound), which leaves the
+/// answer unchanged and settles far fewer vertices per subset; if no tree is below the bound
+/// the result has no edges. Errors: kTooManyTerminals above `max_terminals` or when the table
+/// (2^(k-1) x V x 12 bytes) would exceed 512 MB, kInvalidArgument (fewer than two, repeated
+/// or out-of-range terminals; unbounded and not all connected), kCancelled.
 /// Complexity: O(3^k V + 2^k E log V).
 Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
                                  std::span<const VertexId> terminals, std::size_t max_terminals,
-                                 const CancelToken& cancel = CancelToken::none());
+                                 const CancelToken& cancel = CancelToken::none(),
+                                 double upper_bound = std::numeric_limits<double>::infinity());
 
 }  // namespace seam::core

@@ -7,8 +7,10 @@
 
 #include "core/seam/baselines.h"
 #include "core/seam/skeleton.h"
+#include "core/seam/straighten.h"
 #include "fixture_mesh.h"
 #include "seam_fixtures.h"
+#include "test_data.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
@@ -293,4 +295,34 @@ TEST_CASE("optimal with ten terminals on a spiky sphere: a full component, no lo
   auto again = optimal_seam(mesh, graph, {}, rotated, 10);
   REQUIRE(again.ok());
   CHECK(again->length == doctest::Approx(optimal->length).epsilon(1e-12));
+}
+
+TEST_CASE("optimal_seam with an upper bound: the same optimum below it, nothing when the bound is too low") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(99);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<VertexId> terminals;
+    while (terminals.size() < static_cast<std::size_t>(4 + trial)) {
+      const VertexId v(static_cast<std::uint32_t>(rng() % mesh.num_vertices()));
+      if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
+    }
+    CAPTURE(trial);
+    auto exact = optimal_seam(mesh, graph, {}, terminals, 10);
+    REQUIRE(exact.ok());
+    // Any full-component tree is a valid bound; the star tree is a poor one, the optimum the
+    // tightest (raised by a hair so that the optimum itself is below it).
+    auto star = star_tree(mesh, graph, terminals);
+    REQUIRE(star.ok());
+    const double star_length = make_steiner_tree(mesh, *star, terminals).length;
+    for (double bound : {star_length, exact->length * (1 + 1e-9)}) {
+      auto bounded = optimal_seam(mesh, graph, {}, terminals, 10, CancelToken::none(), bound);
+      REQUIRE(bounded.ok());
+      CHECK(bounded->length == doctest::Approx(exact->length).epsilon(1e-12));
+      CHECK(check_full_component_tree(mesh, bounded->edges, terminals).ok());
+    }
+    auto below = optimal_seam(mesh, graph, {}, terminals, 10, CancelToken::none(), exact->length * (1 - 1e-6));
+    REQUIRE(below.ok());
+    CHECK(below->edges.empty());
+  }
 }
