@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include "core/seam/baselines.h"
@@ -279,13 +280,24 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
   }
   const HalfedgeMesh& work = has_boundary ? coned.mesh : disc;
   std::vector<double> penalized;
+  if (!options.edge_costs.empty()) {
+    // Each real edge weighs its length times its input edge's multiplier; virtual edges 0.
+    penalized.assign(work.num_edges(), 0.0);
+    for (std::size_t e = 0; e < work.num_edges(); ++e) {
+      if (has_boundary && coned.is_virtual(EdgeId(e))) continue;
+      const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+      const HalfedgeId in = mesh.find_halfedge(disc_to_mesh(work.tail(h)), disc_to_mesh(work.head(h)));
+      SEAM_ASSERT(in.valid());
+      penalized[e] = work.edge_length(EdgeId(e)) * options.edge_costs[HalfedgeMesh::edge(in).index()];
+    }
+  }
   if (has_boundary) {
     // Every real edge at a boundary vertex costs P more, P above any tree's length: a tree
     // then first minimises how many edges meet the boundary (one: the apex's attachment, so
     // no path grazes the boundary and the boundary terminal is touched at one point by one
     // edge, §4.1), then its length. Without it a path between two extrema could run through
     // the zero-weight apex (a shortcut across the hole) or graze the boundary elsewhere.
-    penalized = coned.edge_weights;
+    if (penalized.empty()) penalized = coned.edge_weights;
     double total = 1.0;
     for (double w : penalized) total += w;
     for (std::size_t e = 0; e < work.num_edges(); ++e) {
@@ -294,7 +306,7 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
       if (disc.is_boundary(work.tail(h)) || disc.is_boundary(work.head(h))) penalized[e] += total;
     }
   }
-  const std::span<const double> weights = has_boundary ? std::span<const double>(penalized) : std::span<const double>();
+  const std::span<const double> weights = penalized;  // empty: Euclidean
   stats.preprocess_ms += ms_since(start);
 
   if (!has_boundary && terminals.size() < 2) {
@@ -404,6 +416,21 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
     }
   }
   if (mesh.num_faces() == 0) return make_error(ErrorCode::kEmptyMesh, "the mesh has no faces");
+  if (!options.edge_costs.empty()) {
+    if (options.edge_costs.size() != mesh.num_edges()) {
+      return make_error(ErrorCode::kInvalidArgument, "edge_costs has " + std::to_string(options.edge_costs.size()) +
+                                                         " values for " + std::to_string(mesh.num_edges()) + " edges");
+    }
+    for (std::size_t e = 0; e < options.edge_costs.size(); ++e) {
+      const double c = options.edge_costs[e];
+      if (!(c > 0) || !std::isfinite(c)) {
+        return make_error(ErrorCode::kInvalidArgument,
+                          "edge cost " + std::to_string(c) + " of edge " + std::to_string(e) +
+                              " is not finite and positive",
+                          {static_cast<std::uint32_t>(e)});
+      }
+    }
+  }
 
   auto start = Clock::now();
   const Topology topo = compute_topology(mesh);
@@ -456,6 +483,9 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
     result.branches.push_back(std::move(chain));
   }
   for (EdgeId e : result.cut_graph_edges) result.cut_graph_length += mesh.edge_length(e);
+  for (EdgeId e : result.seam_edges) {
+    result.cost += mesh.edge_length(e) * (options.edge_costs.empty() ? 1.0 : options.edge_costs[e.index()]);
+  }
 
   // The contract: seam plus cut graph opens every component into one disc. Checked here,
   // on the real cut, so a bug anywhere above is a typed error and not a wrong answer.

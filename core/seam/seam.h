@@ -45,6 +45,11 @@ struct SeamOptions {
   std::size_t optimal_max_terminals = 10;
   /// Threads for the per-terminal Dijkstra runs (0 = hardware concurrency).
   unsigned threads = 0;
+  /// Optional cost multiplier per edge of the input mesh (empty: all 1). Every method then
+  /// minimises the weighted length (Euclidean length x multiplier) with the same code;
+  /// SeamResult::length stays Euclidean and SeamResult::cost is the weighted length. The
+  /// cut graph of genus > 0 is not weighted. Each multiplier must be finite and > 0.
+  std::span<const double> edge_costs;
 };
 
 struct SeamStats {
@@ -65,6 +70,7 @@ struct SeamResult {
   std::vector<std::vector<VertexId>> branches;  ///< seam paths between terminals/Steiner points
   double length = 0;                    ///< Euclidean length of seam_edges
   double cut_graph_length = 0;          ///< Euclidean length of cut_graph_edges
+  double cost = 0;                      ///< sum over seam_edges of length x edge_costs (= length without)
   /// True when every component's seam is a minimum full-component tree for its terminals
   /// (method kOptimal, the skeleton within exact_budget, or two terminals joined by their
   /// shortest path), so no other method can be shorter (measured in the search weights).
@@ -77,7 +83,8 @@ std::vector<EdgeId> all_cut_edges(const SeamResult& seam);
 
 /// Computes the seam on every connected component of `mesh`, each with the extrema that lie
 /// on it. Preconditions: `mesh` came from build_halfedge_mesh.
-/// Errors: kIndexOutOfRange (an extremum >= num_vertices or isolated), kTooManyTerminals
+/// Errors: kIndexOutOfRange (an extremum >= num_vertices or isolated), kInvalidArgument
+/// (edge_costs neither empty nor one finite positive value per edge), kTooManyTerminals
 /// (kOptimal above options.optimal_max_terminals), kTopologyViolation (a bug: the result
 /// does not cut every component into a disc), kCancelled.
 Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const VertexId> extrema,

@@ -428,3 +428,49 @@ TEST_CASE("the default claims `optimal` only where it equals the exact optimum (
   }
   CHECK(claimed >= 24);  // these meshes are small: the exact seam is within the default budget
 }
+
+TEST_CASE("edge_costs: the same search code minimises the weighted length; length stays Euclidean") {
+  const HalfedgeMesh mesh = build(fx::icosphere(3));
+  const std::vector<VertexId> extrema = {VertexId(0u), VertexId(5u), VertexId(9u), VertexId(11u)};
+  auto plain = compute_seam(mesh, extrema);
+  REQUIRE(plain.ok());
+  CHECK(plain->cost == doctest::Approx(plain->length));
+
+  const std::vector<double> ones(mesh.num_edges(), 1.0);
+  auto unit = compute_seam(mesh, extrema, {.edge_costs = ones});
+  REQUIRE(unit.ok());
+  CHECK(unit->seam_edges == plain->seam_edges);
+
+  // Edges with a midpoint above z = 0.2 cost 10x: the weighted seam avoids them where it can.
+  std::vector<double> costs(mesh.num_edges());
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+    const double z = 0.5 * (mesh.position(mesh.tail(h)).z() + mesh.position(mesh.head(h)).z());
+    costs[e] = z > 0.2 ? 10.0 : 1.0;
+  }
+  auto weighted = compute_seam(mesh, extrema, {.edge_costs = costs});
+  REQUIRE(weighted.ok());
+  check_seam(mesh, *weighted, true, true);
+  double length = 0, cost = 0, plain_cost = 0;
+  for (EdgeId e : weighted->seam_edges) {
+    length += mesh.edge_length(e);
+    cost += mesh.edge_length(e) * costs[e.index()];
+  }
+  for (EdgeId e : plain->seam_edges) plain_cost += mesh.edge_length(e) * costs[e.index()];
+  CHECK(weighted->length == doctest::Approx(length));
+  CHECK(weighted->cost == doctest::Approx(cost));
+  REQUIRE(weighted->optimal);  // small enough for the exact seam
+  CHECK(cost <= plain_cost + 1e-9);
+  CHECK(cost < plain_cost);  // the costs moved the seam (checked on this fixture)
+  auto exact = compute_seam(mesh, extrema, {.method = SeamMethod::kOptimal, .edge_costs = costs});
+  REQUIRE(exact.ok());
+  CHECK(exact->cost == doctest::Approx(weighted->cost));
+
+  std::vector<double> bad = costs;
+  bad[3] = 0.0;
+  CHECK(compute_seam(mesh, extrema, {.edge_costs = bad}).error().code == ErrorCode::kInvalidArgument);
+  bad[3] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(compute_seam(mesh, extrema, {.edge_costs = bad}).error().code == ErrorCode::kInvalidArgument);
+  bad.pop_back();
+  CHECK(compute_seam(mesh, extrema, {.edge_costs = bad}).error().code == ErrorCode::kInvalidArgument);
+}
