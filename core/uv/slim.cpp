@@ -17,7 +17,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxProxyWeight = 1e8;
 constexpr int kHoldRounds = 8;     // rounds of holding colliding vertices per step
-constexpr int kResolveRounds = 2;  // of those, rounds that re-solve the proxy with them pinned
+constexpr int kResolveRounds = 1;  // of those, rounds that re-solve the proxy with them pinned
 
 // Per triangle: 3D area and the gradients of its three barycentric coordinates in an isometric
 // frame of its plane, so that the Jacobian of the map is J = sum_k uv_k g_k^T.
