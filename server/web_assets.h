@@ -1,6 +1,6 @@
 // Files seamd serves from memory: the viewer page at GET / with its script and stylesheet
 // (web/, bundled with three.js by esbuild at build time) and the OpenAPI document
-// (api/openapi.json). CMake embeds them into a generated source (web/embed.cmake), so the
+// (api/openapi.json). CMake embeds them into a generated source (server/web_assets.cmake), so the
 // binary needs no files and no network at run time.
 #pragma once
 

@@ -1,7 +1,7 @@
 // Bundles the viewer (src/viewer.js with three.js from node_modules) into one script and
 // copies the page and its stylesheet next to it: `node build.mjs OUT_DIR`. Runs offline:
 // everything comes from node_modules (npm ci --prefix web). CMake runs it at build time and
-// embeds OUT_DIR's files into seamd (web/embed.cmake).
+// embeds OUT_DIR's files into seamd (server/web_assets.cmake).
 import { build } from 'esbuild';
 import { copyFileSync, mkdirSync } from 'node:fs';
 import { dirname, join } from 'node:path';
