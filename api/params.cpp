@@ -166,6 +166,48 @@ ApiResult<std::optional<std::vector<PrimitiveSelector>>> primitives_from_json(co
   return std::optional<std::vector<PrimitiveSelector>>(std::move(out));
 }
 
+ApiResult<PackParams> pack_from_json(const json& v) {
+  PackParams out;
+  if (v.is_boolean()) {
+    out.enabled = v.get<bool>();
+    return out;
+  }
+  if (!v.is_object()) return invalid("pack", "pack must be an object ({\"group_by\": ..., \"texture_size\": ...}) or false");
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string& key = it.key();
+    const json& x = *it;
+    if (key == "group_by") {
+      const std::string g = x.is_string() ? x.get<std::string>() : "";
+      if (g == "asset") out.group_by = PackGroup::kAsset;
+      else if (g == "mesh") out.group_by = PackGroup::kMesh;
+      else if (g == "material") out.group_by = PackGroup::kMaterial;
+      else if (g == "primitive") out.group_by = PackGroup::kPrimitive;
+      else return invalid("pack.group_by", "pack.group_by must be one of asset, mesh, material, primitive");
+    } else if (key == "texture_size") {
+      if (!x.is_number_integer() || x.get<std::int64_t>() < 16 || x.get<std::int64_t>() > 65536) {
+        return invalid("pack.texture_size", "pack.texture_size must be an integer from 16 to 65536");
+      }
+      out.texture_size = static_cast<int>(x.get<std::int64_t>());
+    } else if (key == "margin_px") {
+      if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < 0) {
+        return invalid("pack.margin_px", "pack.margin_px must be a number >= 0");
+      }
+      out.margin_px = x.get<double>();
+    } else if (key == "rotate") {
+      if (!x.is_boolean()) return invalid("pack.rotate", "pack.rotate must be true or false");
+      out.rotate = x.get<bool>();
+    } else {
+      return invalid("pack." + key.substr(0, 60), "pack: unknown key \"" + key.substr(0, 60) +
+                                                      "\" (known: group_by, texture_size, margin_px, rotate)");
+    }
+  }
+  if (out.margin_px > out.texture_size / 8.0) {
+    return invalid("pack.margin_px", "pack.margin_px must be at most texture_size / 8 (" +
+                                         std::to_string(out.texture_size / 8) + ")");
+  }
+  return out;
+}
+
 }  // namespace
 
 ApiResult<SeamParams> params_from_json(const json& params) {
@@ -206,7 +248,20 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       const std::string m = v.is_string() ? v.get<std::string>() : "";
       if (m == "json") out.output = OutputFormat::kJson;
       else if (m == "glb") out.output = OutputFormat::kGlb;
-      else return invalid("output", "output must be \"json\" or \"glb\"");
+      else if (m == "svg") out.output = OutputFormat::kSvg;
+      else return invalid("output", "output must be \"json\", \"glb\" or \"svg\"");
+    } else if (key == "pack") {
+      SEAM_TRY(out.pack, pack_from_json(v));
+    } else if (key == "charts") {
+      const std::string m = v.is_string() ? v.get<std::string>() : "";
+      if (m == "seam") out.charts = ChartMode::kSeam;
+      else if (m == "features") out.charts = ChartMode::kFeatures;
+      else return invalid("charts", "charts must be \"seam\" or \"features\"");
+    } else if (key == "feature_angle_deg") {
+      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0 || v.get<double>() > 180) {
+        return invalid("feature_angle_deg", "feature_angle_deg must be a number from 0 to 180");
+      }
+      out.feature_angle_deg = v.get<double>();
     } else if (key == "draco") {
       if (!v.is_boolean()) return invalid("draco", "draco must be true or false");
       out.draco = v.get<bool>();
@@ -224,7 +279,7 @@ ApiResult<SeamParams> params_from_json(const json& params) {
     } else {
       return invalid(key.substr(0, 60), "unknown parameter \"" + key.substr(0, 60) +
                               "\" (known: extrema, mesh, primitive, primitives, method, uv, output, draco, refine, repair, "
-                                         "weld_epsilon)");
+                                         "weld_epsilon, pack, charts, feature_angle_deg)");
     }
   }
   if (primitives_given && (out.mesh || out.primitive)) {

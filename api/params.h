@@ -30,7 +30,24 @@ struct ExtremaSpec {
   bool names_vertices() const { return !indices.empty() || !positions.empty() || !exclude.empty(); }
 };
 
-enum class OutputFormat { kJson, kGlb };
+enum class OutputFormat { kJson, kGlb, kSvg };
+
+/// Which primitives' new UV sets share one [0,1]² layout (API.md v2 `pack.group_by`).
+enum class PackGroup { kAsset, kMesh, kMaterial, kPrimitive };
+
+/// `pack` (API.md v2 "An atlas, not only charts"); `pack: false` keeps each primitive's own
+/// layout (core::parameterize's, charts side by side at their own scale).
+struct PackParams {
+  bool enabled = true;
+  PackGroup group_by = PackGroup::kAsset;
+  int texture_size = 1024;  ///< 16..65536
+  double margin_px = 4;     ///< 0..texture_size/8
+  bool rotate = true;
+};
+
+/// `charts`: "seam" (one chart per component, the paper's premise) or "features" (also cut
+/// along sharp edges first, for hard-surface models).
+enum class ChartMode { kSeam, kFeatures };
 
 /// One entry of `primitives` (API.md v2 "Whole assets").
 struct PrimitiveSelector {
@@ -59,6 +76,9 @@ struct SeamParams {
   /// Skeleton only: the local re-optimisation after §4.4 (core::SeamOptions::refine).
   bool refine = core::SeamOptions{}.refine;
   double weld_epsilon = 0.0;
+  PackParams pack;
+  ChartMode charts = ChartMode::kSeam;
+  double feature_angle_deg = 60;  ///< charts "features": dihedral angle of a sharp edge, 0..180
   /// Repair what the builder would refuse (core::repair_mesh: non-manifold edges split into
   /// sheets, orientation made consistent, degenerate faces left out of the topology but kept
   /// in the asset). false: v1's 422s (pinched vertices are split either way).

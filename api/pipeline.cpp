@@ -12,7 +12,9 @@
 
 #include "api/base64.h"
 #include "api/gltf_writer.h"
+#include "api/pack_step.h"
 #include "api/primitive_job.h"
+#include "api/svg.h"
 
 namespace seam::api {
 namespace {
@@ -237,6 +239,42 @@ json mesh_name(const GltfDocument& doc, std::uint32_t m) {
   return mesh.contains("name") && mesh["name"].is_string() ? mesh["name"] : json("");
 }
 
+// The atlas step (api/pack_step.h) over every processed primitive with new UVs.
+ApiResult<std::vector<PackOutcome>> pack_step(const GltfDocument& doc, const std::vector<Selected>& selected,
+                                              JobOutcomes& jobs, const SeamParams& params,
+                                              const core::CancelToken& cancel) {
+  std::vector<PackMember> members;
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    members.push_back({selected[i].mesh, selected[i].primitive, &*jobs.results[i]});
+  }
+  if (!params.uv) return std::vector<PackOutcome>(selected.size());
+  return pack_uv_sets(doc, members, params.pack, cancel);
+}
+
+// output "svg": the new UV sets as a DCC's UV-layout export (api/svg.h).
+ApiResult<std::string> uv_layout_svg(const GltfDocument& doc, const std::vector<Selected>& selected,
+                                     const JobOutcomes& jobs) {
+  std::vector<UvLayout> layouts;
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    const CutPrimitive& cut = jobs.results[i]->cut;
+    if (cut.uv.empty()) continue;
+    UvLayout layout;
+    const json name = mesh_name(doc, selected[i].mesh);
+    layout.name = "mesh " + std::to_string(selected[i].mesh) + " primitive " + std::to_string(selected[i].primitive) +
+                  (name.get<std::string>().empty() ? "" : " (" + name.get<std::string>() + ")");
+    for (const auto& p : cut.uv) layout.uv.push_back({p[0], 1.0 - p[1]});  // v up, as a UV editor shows it
+    for (const auto& t : cut.triangles) layout.triangles.push_back({t[0], t[1], t[2]});
+    layout.seam_edges = boundary_edges(layout.triangles);
+    layouts.push_back(std::move(layout));
+  }
+  if (layouts.empty()) {
+    return make_api_error(ApiErrorCode::kInvalidParameter, "output \"svg\" draws the new UV sets, but uv is \"none\"",
+                          {{"parameter", "output"}});
+  }
+  return render_uv_svg(layouts);
+}
+
+
 // The 200 body: one entry per primitive; with exactly one, v1's top-level objects too.
 json response_body(const GltfDocument& doc, const std::vector<Selected>& selected, std::vector<json> summaries,
                    const std::vector<bool>& draco, json timings) {
@@ -283,6 +321,10 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
   timings["primitives"] = ms_since(t);
 
   t = Clock::now();
+  SEAM_TRY(const std::vector<PackOutcome> packed, pack_step(doc, selected, jobs, params, cancel));
+  timings["pack"] = ms_since(t);
+
+  t = Clock::now();
   std::vector<ReplacedPrimitive> replaced;
   std::vector<bool> draco;
   for (std::size_t i = 0; i < selected.size(); ++i) {
@@ -296,7 +338,15 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
   std::vector<json> summaries;
   for (std::size_t i = 0; i < selected.size(); ++i) {
     json& summary = jobs.results[i]->summary;
-    if (summary["uv"].is_object()) summary["uv"]["channel"] = written.primitives[i].uv_channel;
+    if (summary["uv"].is_object()) {
+      json& uv = summary["uv"];
+      uv["channel"] = written.primitives[i].uv_channel;
+      uv["flipped"] = uv["flipped"].get<std::size_t>() + packed[i].flipped;
+      uv["overlap_area"] = packed[i].overlap_area;
+      uv["coverage"] = packed[i].coverage;
+      uv["pack_group"] = packed[i].group;
+      if (params.pack.enabled) uv["texel_density"] = packed[i].texel_density;
+    }
     summaries.push_back(std::move(summary));
   }
   timings["encode"] = ms_since(t);
@@ -305,6 +355,9 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
   PipelineOutput output;
   output.body = response_body(doc, selected, std::move(summaries), draco, std::move(timings));
   if (params.output == OutputFormat::kJson) output.body["asset"] = {{"glb_base64", encode_base64(written.glb)}};
+  if (params.output == OutputFormat::kSvg) {
+    SEAM_TRY(output.svg, uv_layout_svg(doc, selected, jobs));
+  }
   output.glb = std::move(written.glb);
   output.total_ms = ms_since(t_start);
   return output;

@@ -37,6 +37,7 @@ struct PipelineLimits {
 struct PipelineOutput {
   nlohmann::json body;  ///< the 200 response object of API.md (with asset.glb_base64 when kJson)
   std::string glb;      ///< the cut asset as GLB bytes (always filled)
+  std::string svg;      ///< output "svg": the new UV sets' layout (api/svg.h), else empty
   double total_ms = 0;
 };
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "core/atlas/features.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/repair.h"
@@ -475,6 +476,7 @@ json seam_summary(const core::SeamResult& seam, const std::vector<core::EdgeId>&
           {"steiner_points", vertex_list(seam.steiner_points)},
           {"cut_graph_edges", edge_pairs(seam.cut_graph_edges)},
           {"cut_graph_length", seam.cut_graph_length},
+          {"optimal", seam.optimal},
           {"polylines", std::move(polylines)}};
 }
 
@@ -504,7 +506,8 @@ json uv_summary(const core::UvResult& uv) {
           {"angle_distortion", d.angle},
           {"stretch_l2", d.stretch_l2},
           {"stretch_linf", d.stretch_linf},
-          {"flipped", d.flipped}};
+          {"flipped", d.flipped},
+          {"overlap_area", uv.overlap_area}};
 }
 
 // The new UVs per output vertex. glTF puts the texture origin top-left with v growing down;
@@ -517,6 +520,105 @@ std::vector<std::array<float, 2>> output_uvs(const core::UvResult& uv, const std
     out.push_back({static_cast<float>(p.x()), static_cast<float>(1.0 - p.y())});
   }
   return out;
+}
+
+// A seam computed on `sub` (the surface cut along `features`) expressed on the surface:
+// vertices through sub_to_surface, edges found between the mapped ends.
+core::SeamResult seam_on_surface(core::SeamResult seam, const core::HalfedgeMesh& sub,
+                                 const core::VertexData<core::VertexId>& sub_to_surface, const core::HalfedgeMesh& mesh) {
+  auto vertices = [&](std::vector<core::VertexId>& vs) {
+    for (auto& v : vs) v = sub_to_surface[v];
+  };
+  auto edges = [&](std::vector<core::EdgeId>& es) {
+    for (auto& e : es) {
+      const core::HalfedgeId h = core::HalfedgeMesh::halfedge(e);
+      e = core::HalfedgeMesh::edge(mesh.find_halfedge(sub_to_surface[sub.tail(h)], sub_to_surface[sub.head(h)]));
+    }
+  };
+  vertices(seam.extrema);
+  vertices(seam.terminals);
+  vertices(seam.steiner_points);
+  for (auto& branch : seam.branches) vertices(branch);
+  edges(seam.seam_edges);
+  edges(seam.cut_graph_edges);
+  return seam;
+}
+
+struct SeamCut {
+  core::SeamResult seam;
+  std::vector<core::EdgeId> cut_edges;  ///< on the surface: seam, cut graph and feature edges
+  std::size_t feature_edges = 0;
+};
+
+// charts "seam": the seam on the surface. charts "features": the surface is first cut along
+// its sharp edges; the seam then opens each side to a disc, its extrema leaves there.
+ApiResult<SeamCut> seam_and_cuts(const Surface& surface, const std::vector<core::VertexId>& terminals,
+                                 const SeamParams& params, const core::SeamOptions& options,
+                                 const core::CancelToken& cancel) {
+  SeamCut out;
+  std::vector<core::EdgeId> features;
+  if (params.charts == ChartMode::kFeatures) {
+    auto found = core::find_feature_edges(surface.mesh, core::FeatureOptions{params.feature_angle_deg}, cancel);
+    if (!found.ok()) return from_core(found.error());
+    features = std::move(found->edges);
+  }
+  if (features.empty()) {
+    auto seam = core::compute_seam(surface.mesh, terminals, options, cancel);
+    if (!seam.ok()) return map_core_error(seam.error(), surface.canon, seam.error().code);
+    out.seam = std::move(seam).value();
+    out.cut_edges = core::all_cut_edges(out.seam);
+    return out;
+  }
+  auto sides = core::cut_along_edges(surface.mesh, features);
+  if (!sides.ok()) return from_core(sides.error());
+  std::vector<core::VertexId> first_copy(surface.mesh.num_vertices());
+  for (std::uint32_t v = sides->mesh.num_vertices(); v-- > 0;) first_copy[sides->to_original[core::VertexId(v)].index()] = core::VertexId(v);
+  std::vector<core::VertexId> sub_terminals;
+  for (auto t : terminals) sub_terminals.push_back(first_copy[t.index()]);
+  auto seam = core::compute_seam(sides->mesh, sub_terminals, options, cancel);
+  if (!seam.ok()) return from_core(seam.error());
+  out.seam = seam_on_surface(std::move(seam).value(), sides->mesh, sides->to_original, surface.mesh);
+  out.cut_edges = core::all_cut_edges(out.seam);
+  out.cut_edges.insert(out.cut_edges.end(), features.begin(), features.end());
+  std::sort(out.cut_edges.begin(), out.cut_edges.end());
+  out.cut_edges.erase(std::unique(out.cut_edges.begin(), out.cut_edges.end()), out.cut_edges.end());
+  out.feature_edges = features.size();
+  return out;
+}
+
+// Charts of the output vertices: the cut's connected components (degenerate faces borrow a
+// cut vertex, so they join their chart), renumbered by first output vertex; and each chart's
+// 3D area.
+void label_charts(const core::CutMesh& cut, const std::vector<core::VertexId>& cut_vertex, PrimitiveResult& result) {
+  const core::HalfedgeMesh& m = cut.mesh;
+  std::vector<std::uint32_t> parent(m.num_vertices());
+  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  auto find = [&](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  std::vector<double> area(m.num_vertices(), 0.0);
+  for (std::uint32_t f = 0; f < m.num_faces(); ++f) {
+    const auto c = m.face_vertices(core::FaceId(f));
+    const std::uint32_t r = find(c[0].value());
+    for (std::size_t k = 1; k < 3; ++k) parent[find(c[k].value())] = r;
+  }
+  for (std::uint32_t f = 0; f < m.num_faces(); ++f) {
+    const auto c = m.face_vertices(core::FaceId(f));
+    const core::Vec3 n = (m.position(c[1]) - m.position(c[0])).cross(m.position(c[2]) - m.position(c[0]));
+    area[find(c[0].value())] += 0.5 * n.norm();
+  }
+  std::vector<std::uint32_t> label(m.num_vertices(), std::numeric_limits<std::uint32_t>::max());
+  result.chart.clear();
+  result.chart_area.clear();
+  for (const core::VertexId cv : cut_vertex) {
+    const std::uint32_t r = find(cv.value());
+    if (label[r] == std::numeric_limits<std::uint32_t>::max()) {
+      label[r] = static_cast<std::uint32_t>(result.chart_area.size());
+      result.chart_area.push_back(area[r]);
+    }
+    result.chart.push_back(label[r]);
+  }
 }
 
 }  // namespace
@@ -553,12 +655,12 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   seam_options.method = params.method;
   seam_options.refine = params.refine;
   seam_options.threads = std::max(1u, options.threads);
-  auto seam = core::compute_seam(surface.mesh, terminals, seam_options, cancel);
-  if (!seam.ok()) return map_core_error(seam.error(), surface.canon, seam.error().code);
+  SEAM_TRY(const SeamCut seam_cut, seam_and_cuts(surface, terminals, params, seam_options, cancel));
+  const core::SeamResult* seam = &seam_cut.seam;
+  const std::vector<core::EdgeId>& cut_edges = seam_cut.cut_edges;
   timings["seam"] = ms_since(t);
 
   t = Clock::now();
-  const std::vector<core::EdgeId> cut_edges = core::all_cut_edges(*seam);
   auto cut = core::cut_along_edges(surface.mesh, cut_edges);
   if (!cut.ok()) return from_core(cut.error());
   const core::Topology cut_topology = core::compute_topology(cut->mesh);
@@ -581,7 +683,9 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   PrimitiveResult result;
   result.cut = std::move(output.primitive);
   if (uv) result.cut.uv = output_uvs(*uv, output.cut_vertex);
+  label_charts(*cut, output.cut_vertex, result);
   json seam_json = seam_summary(*seam, cut_edges, surface, params.method);
+  if (params.charts == ChartMode::kFeatures) seam_json["feature_edges"] = seam_cut.feature_edges;
   result.cut.seam_extras = {{"method", seam_json["method"]},       {"length", seam->length},
                             {"edges", seam_json["edges"]},         {"extrema", seam_json["extrema"]},
                             {"terminals", seam_json["terminals"]}, {"steiner_points", seam_json["steiner_points"]},

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -22,6 +24,8 @@ struct PrimitiveJobOptions {
 
 struct PrimitiveResult {
   CutPrimitive cut;  ///< source_vertex, triangles, uv (empty with uv "none"), seam_extras
+  std::vector<std::uint32_t> chart;  ///< per output vertex: its chart (a component of the cut)
+  std::vector<double> chart_area;    ///< per chart: its 3D surface area
   /// {"seam", "topology", "repairs", "cut", "uv", "timings_ms"} of API.md v2; uv.channel is
   /// added by the caller once the writer has chosen it.
   nlohmann::json summary;
@@ -32,7 +36,8 @@ struct PrimitiveResult {
 ApiResult<std::size_t> explicit_extrema_count(const ExtremaSpec& spec, std::size_t max_extrema);
 
 /// Runs the seam job on one primitive with `extrema` (its own or the request's) and the
-/// request's method, uv, refine, repair and weld parameters. Error messages and details name
+/// request's method, uv, refine, repair, weld and charts parameters (charts "features": the
+/// surface is cut along its sharp edges too, core::find_feature_edges). Error messages and details name
 /// input elements (face = index in the primitive's index order, vertex = POSITION index).
 /// Errors: kDegenerateFace, kNonManifoldEdge, kInconsistentOrientation (repair: false only),
 /// kNonFinitePosition, kExtremumOutOfRange, kTooManyExtrema, kTooManyTerminals (optimal),

@@ -1,0 +1,182 @@
+#include "api/pack_step.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/atlas/overlap.h"
+#include "core/atlas/pack.h"
+
+namespace seam::api {
+namespace {
+
+using nlohmann::json;
+
+std::int64_t material_of(const GltfDocument& doc, const PackMember& m) {
+  const json& prim = doc.json["meshes"][m.mesh]["primitives"][m.primitive];
+  const auto it = prim.find("material");
+  return it != prim.end() && it->is_number_unsigned() ? it->get<std::int64_t>() : -1;
+}
+
+// Members' group keys by params.group_by, numbered in order of first member.
+std::vector<std::uint32_t> group_members(const GltfDocument& doc, const std::vector<PackMember>& members,
+                                         const PackParams& params) {
+  std::map<std::int64_t, std::uint32_t> ids;
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    std::int64_t key = static_cast<std::int64_t>(i);
+    if (params.enabled) {
+      switch (params.group_by) {
+        case PackGroup::kAsset: key = 0; break;
+        case PackGroup::kMesh: key = members[i].mesh; break;
+        case PackGroup::kMaterial: key = material_of(doc, members[i]); break;
+        case PackGroup::kPrimitive: break;
+      }
+    }
+    const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(ids.size()));
+    out.push_back(it->second);
+  }
+  return out;
+}
+
+// One chart of one member, as pack_charts takes it.
+struct ChartData {
+  std::size_t member = 0;
+  std::vector<std::uint32_t> vertices;  // output vertices of the member, in order
+  std::vector<core::Vec2> uv;
+  std::vector<core::Triangle> triangles;  // over `uv`
+  double area = 0;
+};
+
+std::vector<ChartData> charts_of(const PrimitiveResult& r, std::size_t member) {
+  std::vector<ChartData> charts(r.chart_area.size());
+  std::vector<std::uint32_t> local(r.cut.uv.size());
+  for (std::uint32_t v = 0; v < r.cut.uv.size(); ++v) {
+    ChartData& c = charts[r.chart[v]];
+    local[v] = static_cast<std::uint32_t>(c.vertices.size());
+    c.vertices.push_back(v);
+    c.uv.emplace_back(r.cut.uv[v][0], r.cut.uv[v][1]);
+  }
+  for (const auto& t : r.cut.triangles) {
+    charts[r.chart[t[0]]].triangles.push_back({local[t[0]], local[t[1]], local[t[2]]});
+  }
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    charts[c].member = member;
+    charts[c].area = r.chart_area[c];
+  }
+  return charts;
+}
+
+double orientation(const std::vector<std::array<float, 2>>& uv, const core::Triangle& t) {
+  const auto& a = uv[t[0]];
+  const auto& b = uv[t[1]];
+  const auto& c = uv[t[2]];
+  return (static_cast<double>(b[0]) - a[0]) * (static_cast<double>(c[1]) - a[1]) -
+         (static_cast<double>(b[1]) - a[1]) * (static_cast<double>(c[0]) - a[0]);
+}
+
+// Moves every chart of the group by its placement; counts triangles whose orientation the
+// rounding to float changed (or flattened) in each member.
+void place(std::vector<ChartData>& charts, const core::PackResult& packed, const std::vector<PackMember>& members,
+           std::vector<PackOutcome>& outcomes) {
+  std::map<std::size_t, std::vector<double>> before;
+  for (const auto& c : charts) {
+    auto& b = before[c.member];
+    if (!b.empty()) continue;
+    const PrimitiveResult& r = *members[c.member].result;
+    for (const auto& t : r.cut.triangles) b.push_back(orientation(r.cut.uv, t));
+  }
+  for (std::size_t k = 0; k < charts.size(); ++k) {
+    PrimitiveResult& r = *members[charts[k].member].result;
+    for (std::size_t i = 0; i < charts[k].vertices.size(); ++i) {
+      const core::Vec2 p = packed.placements[k].apply(charts[k].uv[i]);
+      r.cut.uv[charts[k].vertices[i]] = {static_cast<float>(p.x()), static_cast<float>(p.y())};
+    }
+  }
+  for (const auto& [member, signs] : before) {
+    const PrimitiveResult& r = *members[member].result;
+    for (std::size_t t = 0; t < signs.size(); ++t) {
+      if (signs[t] == 0) continue;
+      const double now = orientation(r.cut.uv, r.cut.triangles[t]);
+      if (now == 0 || (now > 0) != (signs[t] > 0)) ++outcomes[member].flipped;
+    }
+  }
+}
+
+struct Measured {
+  double overlap_area = 0;
+  double coverage = 0;
+};
+
+// The group's layout measured: the area covered twice, within or between charts (exactly),
+// and the charts' area (the atlas is the unit square).
+ApiResult<Measured> measure_group(const std::vector<ChartData>& charts, const std::vector<PackMember>& members,
+                                const core::CancelToken& cancel) {
+  std::vector<core::Vec2> uv;
+  std::vector<core::Triangle> triangles;
+  std::vector<std::uint32_t> chart_of;
+  std::map<std::size_t, bool> seen;
+  std::uint32_t chart_base = 0;
+  Measured out;
+  for (const auto& c : charts) {
+    if (seen[c.member]) continue;
+    seen[c.member] = true;
+    const PrimitiveResult& r = *members[c.member].result;
+    const auto base = static_cast<std::uint32_t>(uv.size());
+    for (const auto& p : r.cut.uv) uv.emplace_back(p[0], p[1]);
+    for (const auto& t : r.cut.triangles) {
+      triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+      chart_of.push_back(chart_base + r.chart[t[0]]);
+      out.coverage += 0.5 * std::abs(orientation(r.cut.uv, t));
+    }
+    chart_base += static_cast<std::uint32_t>(r.chart_area.size());
+  }
+  auto overlap = core::find_overlaps(uv, triangles, chart_of, cancel);
+  if (!overlap.ok()) return from_core(overlap.error());
+  out.overlap_area = overlap->overlap_area;
+  return out;
+}
+
+}  // namespace
+
+ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const std::vector<PackMember>& members,
+                                                 const PackParams& params, const core::CancelToken& cancel) {
+  std::vector<PackOutcome> outcomes(members.size());
+  const std::vector<std::uint32_t> group = group_members(doc, members, params);
+  const std::uint32_t groups = group.empty() ? 0 : *std::max_element(group.begin(), group.end()) + 1;
+  for (std::uint32_t g = 0; g < groups; ++g) {
+    std::vector<ChartData> charts;
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      outcomes[i].group = group[i];
+      if (group[i] != g || members[i].result->cut.uv.empty()) continue;
+      // Charts of faces degenerate in 3D only (a collapsed face whose vertices are in no
+      // other face) have no area to pack; they keep their zero-area place.
+      for (auto& c : charts_of(*members[i].result, i)) {
+        if (c.area > 0) charts.push_back(std::move(c));
+      }
+    }
+    if (charts.empty()) continue;
+    double density = 0;
+    if (params.enabled) {
+      std::vector<core::PackChart> input;
+      for (const auto& c : charts) input.push_back({c.uv, c.triangles, c.area});
+      auto packed = core::pack_charts(input, core::PackOptions{params.texture_size, params.margin_px, params.rotate}, cancel);
+      if (!packed.ok()) {
+        if (packed.error().code == core::ErrorCode::kCancelled) return from_core(packed.error());
+        return make_api_error(ApiErrorCode::kInternal, "packing the UV charts failed: " + packed.error().message);
+      }
+      place(charts, *packed, members, outcomes);
+      density = packed->texel_density;
+    }
+    SEAM_TRY(const Measured measured, measure_group(charts, members, cancel));
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      if (group[i] != g) continue;
+      outcomes[i].coverage = measured.coverage;
+      outcomes[i].overlap_area = measured.overlap_area;
+      outcomes[i].texel_density = density;
+    }
+  }
+  return outcomes;
+}
+
+}  // namespace seam::api

@@ -1,0 +1,43 @@
+// The atlas step of a request: the new UV sets of the processed primitives packed by group
+// into one [0,1]² layout each (API.md v2 `pack`), at one texel density, then measured:
+// coverage, exact overlap, and the triangles float32 rounding turned over.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "api/error.h"
+#include "api/gltf_reader.h"
+#include "api/params.h"
+#include "api/primitive_job.h"
+#include "core/cancel.h"
+
+namespace seam::api {
+
+/// One processed primitive: where it is in the asset and its job's result (UVs rewritten).
+struct PackMember {
+  std::uint32_t mesh = 0;
+  std::uint32_t primitive = 0;
+  PrimitiveResult* result = nullptr;
+};
+
+/// What a primitive's `uv` reports after packing.
+struct PackOutcome {
+  std::uint32_t group = 0;     ///< index of its group, in order of first member
+  double coverage = 0;         ///< its group's chart area / atlas area
+  double overlap_area = 0;     ///< area covered twice in its group's layout (exact; 0 expected)
+  std::size_t flipped = 0;     ///< its triangles whose orientation the packing's rounding changed
+  double texel_density = 0;    ///< texels per unit length at texture_size
+};
+
+/// Packs the members' new UV sets (members without UVs are skipped) group by group with
+/// core::pack_charts: each chart of each member (PrimitiveResult::chart) scaled to the group's
+/// texel density, rotated, placed margin_px apart. Members are grouped by params.group_by: the
+/// whole asset, the mesh, the primitive's `material` (none is a group of its own), or each
+/// primitive alone. With params.enabled false nothing moves and only the measurements are
+/// made (each primitive its own group). Errors: kInternal (the packer refused a chart: a bug
+/// upstream), kTimeout (cancelled). O(UV vertices + triangles) plus the packer's cost.
+ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const std::vector<PackMember>& members,
+                                                 const PackParams& params, const core::CancelToken& cancel);
+
+}  // namespace seam::api

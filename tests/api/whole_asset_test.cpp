@@ -1,0 +1,236 @@
+// Contract v2 at the pipeline: every primitive by default, the selection forms and their
+// refusals, the atlas (pack groups, one texel density, overlap), charts "features", output svg.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+#include "api/gltf_reader.h"
+#include "api/gltf_writer.h"
+#include "api/pipeline.h"
+#include "fixtures.h"
+#include "gltf_test_util.h"
+
+namespace {
+
+using namespace seam;
+using namespace seam::api;
+using seam::test_gltf::json;
+
+// Three meshes: a sphere (mesh 0, "ball", material 0), a torus (mesh 1, "ring", material 1)
+// drawn by two nodes, and mesh 2 ("both") with the sphere's and the torus's primitives again
+// (sharing their accessors) plus a LINES primitive over the sphere's vertices.
+std::string three_mesh_asset() {
+  const auto ball = fixtures::icosphere(2);
+  const auto ring = fixtures::translated(fixtures::torus(24, 12), core::Vec3(4, 0, 0));
+  auto a = write_plain_glb(core::IndexedMesh{ball.positions, ball.triangles});
+  auto b = write_plain_glb(core::IndexedMesh{ring.positions, ring.triangles});
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  auto da = parse_asset(*a, AssetKind::kGlb);
+  auto db = parse_asset(*b, AssetKind::kGlb);
+  REQUIRE(da.ok());
+  REQUIRE(db.ok());
+  json j = da->json;
+  std::vector<std::uint8_t> bin = da->buffers[0];
+  while (bin.size() % 4) bin.push_back(0);
+  const std::size_t offset = bin.size();
+  bin.insert(bin.end(), db->buffers[0].begin(), db->buffers[0].end());
+  const std::size_t views = j["bufferViews"].size(), accessors = j["accessors"].size();
+  for (json view : db->json["bufferViews"]) {
+    view["byteOffset"] = view.value("byteOffset", std::size_t{0}) + offset;
+    j["bufferViews"].push_back(view);
+  }
+  for (json acc : db->json["accessors"]) {
+    acc["bufferView"] = acc["bufferView"].get<std::size_t>() + views;
+    j["accessors"].push_back(acc);
+  }
+  json ring_prim = db->json["meshes"][0]["primitives"][0];
+  for (auto& [name, ref] : ring_prim["attributes"].items()) ref = ref.get<std::size_t>() + accessors;
+  ring_prim["indices"] = ring_prim["indices"].get<std::size_t>() + accessors;
+  ring_prim["material"] = 1;
+  json ball_prim = j["meshes"][0]["primitives"][0];
+  ball_prim["material"] = 0;
+  json lines = {{"attributes", ball_prim["attributes"]}, {"mode", 1}};
+  j["materials"] = {{{"name", "skin"}}, {{"name", "metal"}}};
+  j["meshes"] = {{{"name", "ball"}, {"primitives", {ball_prim}}},
+                 {{"name", "ring"}, {"primitives", {ring_prim}}},
+                 {{"name", "both"}, {"primitives", {ball_prim, ring_prim, lines}}}};
+  j["nodes"] = {{{"mesh", 0}}, {{"mesh", 1}}, {{"mesh", 1}, {"translation", {0, 3, 0}}}, {{"mesh", 2}}};
+  j["scenes"] = {{{"nodes", {0, 1, 2, 3}}}};
+  j["buffers"][0]["byteLength"] = bin.size();
+  return encode_glb(j, bin);
+}
+
+ApiResult<PipelineOutput> run(const std::string& asset, const json& params) {
+  auto p = params_from_json(params);
+  REQUIRE_MESSAGE(p.ok(), (p.ok() ? "" : p.error().message));
+  return run_seam_pipeline(asset, AssetKind::kAuto, *p, {}, core::CancelToken::none());
+}
+
+PipelineOutput run_ok(const std::string& asset, const json& params) {
+  auto out = run(asset, params);
+  REQUIRE_MESSAGE(out.ok(), (out.ok() ? "" : out.error().message));
+  return std::move(out).value();
+}
+
+double uv_area(const PrimitiveData& p, int channel) {
+  const std::string name = "TEXCOORD_" + std::to_string(channel);
+  const AttributeArray* uv = nullptr;
+  for (const auto& a : p.attributes) {
+    if (a.name == name) uv = &a;
+  }
+  REQUIRE(uv != nullptr);
+  auto at = [&](std::uint32_t v) {
+    float x[2];
+    std::memcpy(x, uv->data.data() + v * 8, 8);
+    return std::array<double, 2>{x[0], x[1]};
+  };
+  double area = 0;
+  for (const auto& t : p.mesh.triangles) {
+    const auto a = at(t[0]), b = at(t[1]), c = at(t[2]);
+    area += 0.5 * std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    for (const auto& q : {a, b, c}) {
+      CHECK(q[0] >= 0.0);
+      CHECK(q[0] <= 1.0);
+      CHECK(q[1] >= 0.0);
+      CHECK(q[1] <= 1.0);
+    }
+  }
+  return area;
+}
+
+double surface_area(const PrimitiveData& p) {
+  double area = 0;
+  for (const auto& t : p.mesh.triangles) {
+    const auto& x = p.mesh.positions;
+    area += 0.5 * (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]).norm();
+  }
+  return area;
+}
+
+}  // namespace
+
+TEST_CASE("by default every triangle primitive is cut once, lines kept, the asset lean and valid") {
+  const std::string asset = three_mesh_asset();
+  const PipelineOutput out = run_ok(asset, json::object());
+  const json& prims = out.body["primitives"];
+  REQUIRE(prims.size() == 4);  // ball, ring (two nodes: once), both/0, both/1; not the lines
+  const std::set<std::pair<int, int>> expected{{0, 0}, {1, 0}, {2, 0}, {2, 1}};
+  std::set<std::pair<int, int>> got;
+  for (const auto& p : prims) {
+    got.emplace(p["mesh"].get<int>(), p["primitive"].get<int>());
+    CHECK(p["uv"]["flipped"] == 0);
+    CHECK(p["uv"]["overlap_area"] == 0.0);
+    CHECK(p["cut"]["euler_characteristic"] == p["topology"]["components"]);
+  }
+  CHECK(got == expected);
+  CHECK(prims[1]["name"] == "ring");
+  CHECK(prims[1]["topology"]["genus"] == 1);
+  CHECK(!out.body.contains("seam"));  // v1's top-level objects only with one primitive
+  std::string report;
+  CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "whole_out.glb") == 0, report);
+  CHECK_MESSAGE(report.find("UNUSED_OBJECT") == std::string::npos, report);
+  auto doc = parse_asset(out.glb, AssetKind::kGlb);
+  REQUIRE(doc.ok());
+  // The lines primitive still reads the sphere's original vertices.
+  CHECK(doc->json["meshes"][2]["primitives"][2]["mode"] == 1);
+  const auto lines_positions = doc->json["meshes"][2]["primitives"][2]["attributes"]["POSITION"].get<std::size_t>();
+  CHECK(doc->json["accessors"][lines_positions]["count"] == fixtures::icosphere(2).positions.size());
+}
+
+TEST_CASE("one texel density across an asset group; group_by primitive packs each alone") {
+  const std::string asset = three_mesh_asset();
+  for (const char* group : {"asset", "primitive", "material", "mesh"}) {
+    CAPTURE(group);
+    const PipelineOutput out = run_ok(asset, {{"pack", {{"group_by", group}, {"margin_px", 2}}}});
+    auto doc = parse_asset(out.glb, AssetKind::kGlb);
+    REQUIRE(doc.ok());
+    std::vector<double> density;
+    std::set<int> groups;
+    for (const auto& e : out.body["primitives"]) {
+      auto p = read_primitive(*doc, e["mesh"].get<std::uint32_t>(), e["primitive"].get<std::uint32_t>());
+      REQUIRE(p.ok());
+      density.push_back(uv_area(*p, e["uv"]["channel"].get<int>()) / surface_area(*p));
+      groups.insert(e["uv"]["pack_group"].get<int>());
+      CHECK(e["uv"]["overlap_area"] == 0.0);
+      CHECK(e["uv"]["coverage"].get<double>() > 0.3);
+    }
+    const std::string g = group;
+    CHECK(groups.size() == (g == "asset" ? 1u : g == "primitive" ? 4u : g == "material" ? 2u : 3u));
+    if (g == "asset") {
+      // UV area in proportion to surface area, the same ratio for every primitive.
+      for (double d : density) CHECK(d == doctest::Approx(density[0]).epsilon(0.02));
+    }
+  }
+  // pack: false keeps each primitive's own layout, still measured.
+  const PipelineOutput own = run_ok(asset, {{"pack", false}});
+  for (const auto& e : own.body["primitives"]) CHECK(e["uv"]["overlap_area"] == 0.0);
+}
+
+TEST_CASE("the selection: by list, by mesh name, v1's mesh/primitive, and its refusals") {
+  const std::string asset = three_mesh_asset();
+  auto named = run_ok(asset, {{"primitives", {{{"mesh", "both"}}}}});
+  REQUIRE(named.body["primitives"].size() == 2);
+  auto listed = run_ok(asset, {{"primitives", {{{"mesh", 1}, {"primitive", 0}, {"extrema", {0, 100}}},
+                                               {{"mesh", 0}, {"extrema", "auto"}}}}});
+  REQUIRE(listed.body["primitives"].size() == 2);
+  CHECK(listed.body["primitives"][0]["mesh"] == 0);  // asset order
+  CHECK(listed.body["primitives"][1]["seam"]["extrema"] == json::array({0, 100}));
+  auto v1 = run_ok(asset, {{"mesh", 1}});
+  CHECK(v1.body["primitives"].size() == 1);
+  CHECK(v1.body.contains("seam"));
+  CHECK(v1.body["mesh"]["genus"] == 1);
+
+  auto refused = [&](const json& params, ApiErrorCode code, const std::string& words) {
+    CAPTURE(params.dump());
+    auto p = params_from_json(params);
+    auto out = p.ok() ? run_seam_pipeline(asset, AssetKind::kAuto, *p, {}, core::CancelToken::none())
+                      : ApiResult<PipelineOutput>(p.error());
+    REQUIRE(!out.ok());
+    CHECK(out.error().code == code);
+    CHECK_MESSAGE(out.error().message.find(words) != std::string::npos, out.error().message);
+  };
+  refused({{"extrema", {1, 2}}}, ApiErrorCode::kInvalidParameter, "4 primitives are selected");
+  refused({{"primitives", {{{"mesh", "nope"}}}}}, ApiErrorCode::kInvalidParameter, "no mesh is named");
+  refused({{"primitives", {{{"mesh", 0}}, {{"mesh", "ball"}}}}}, ApiErrorCode::kInvalidParameter, "selected twice");
+  refused({{"primitives", "all"}, {"mesh", 0}}, ApiErrorCode::kInvalidParameter, "cannot be combined");
+  refused({{"primitives", {{{"mesh", 2}, {"primitive", 2}}}}}, ApiErrorCode::kUnsupportedPrimitiveMode, "LINES");
+  refused({{"primitives", {{{"mesh", 1}, {"extrema", {99999}}}, {{"mesh", 0}}}}}, ApiErrorCode::kExtremumOutOfRange,
+          "mesh 1 primitive 0: ");
+  refused({{"pack", {{"texture_size", 8}}}}, ApiErrorCode::kInvalidParameter, "texture_size");
+}
+
+TEST_CASE("charts features: a cube opens into its six sides, each flat (angle distortion 1)") {
+  const auto cube = fixtures::voxel_surface({{0, 0, 0}});
+  auto glb = write_plain_glb(core::IndexedMesh{cube.positions, cube.triangles});
+  REQUIRE(glb.ok());
+  const PipelineOutput seam = run_ok(*glb, json::object());
+  const PipelineOutput sides = run_ok(*glb, {{"charts", "features"}});
+  CHECK(sides.body["seam"]["feature_edges"] == 12);
+  CHECK(sides.body["cut"]["euler_characteristic"] == 6);  // six discs
+  CHECK(sides.body["uv"]["angle_distortion"].get<double>() == doctest::Approx(1.0).epsilon(1e-6));
+  CHECK(seam.body["uv"]["angle_distortion"].get<double>() > 1.05);
+  CHECK(sides.body["uv"]["flipped"] == 0);
+  CHECK(sides.body["uv"]["overlap_area"] == 0.0);
+}
+
+TEST_CASE("output svg draws every new UV triangle, one group per primitive") {
+  const std::string asset = three_mesh_asset();
+  const PipelineOutput out = run_ok(asset, {{"output", "svg"}});
+  REQUIRE(out.svg.rfind("<?xml", 0) == 0);
+  std::size_t triangles = 0, polygons = 0, groups = 0;
+  for (const auto& e : out.body["primitives"]) triangles += e["topology"]["faces"].get<std::size_t>();
+  for (std::size_t at = out.svg.find("<polygon"); at != std::string::npos; at = out.svg.find("<polygon", at + 1)) ++polygons;
+  for (std::size_t at = out.svg.find("class=\"primitive\""); at != std::string::npos;
+       at = out.svg.find("class=\"primitive\"", at + 1)) {
+    ++groups;
+  }
+  CHECK(polygons == triangles);
+  CHECK(groups == 4);
+  auto none = run(asset, {{"output", "svg"}, {"uv", "none"}});
+  REQUIRE(!none.ok());
+  CHECK(none.error().code == ApiErrorCode::kInvalidParameter);
+}
