@@ -352,7 +352,7 @@ async function showResult(body) {
   state.seamEdgeList = p.seam.edges ?? [];
   state.seamEdges = state.seamEdgeList.length;
   state.seamLength = p.seam.length ?? 0;
-  drawOverlay(p.seam);
+  drawOverlay();
   cutGlb = body.asset?.glb_base64 ? base64Bytes(body.asset.glb_base64) : null;
   $('download').disabled = !cutGlb;
   $('svg').disabled = false;
@@ -376,7 +376,8 @@ function vertexPosition(i) {
   return new THREE.Vector3().fromBufferAttribute(pos, i);
 }
 
-function drawOverlay(seam) {
+// The seam's edges (input POSITION indices) as wide lines and a marker per extremum.
+function drawOverlay() {
   disposeObject(overlay);
   overlay = modelFrame();
   // Screen-space wide lines (WebGL draws plain lines 1 px wide).
@@ -398,7 +399,6 @@ function drawOverlay(seam) {
     m.name = `extremum ${v}`;
     overlay.add(m);
   }
-  void seam;
 }
 
 let checkerTexture = null;
