@@ -58,9 +58,13 @@ class PathSearch {
   }
   /// Runs until the first of `targets` is settled (the nearest one), or the next vertex is
   /// farther than max_distance (then no target is reached). Errors: kCancelled.
+  /// Also stops once `max_settled` vertices are settled (then no target may be reached).
   Status run_to_nearest(std::span<const VertexId> targets, const CancelToken& cancel = CancelToken::none(),
-                        double max_distance = kUnreached) {
-    return run_impl(targets, max_distance, true, cancel);
+                        double max_distance = kUnreached, std::size_t max_settled = SIZE_MAX) {
+    max_settled_ = max_settled;
+    auto st = run_impl(targets, max_distance, true, cancel);
+    max_settled_ = SIZE_MAX;
+    return st;
   }
 
   /// Settled distance of v from the sources, kUnreached if not settled by the last run.

@@ -47,6 +47,7 @@ class Improver {
   Result<bool> try_move(std::span<const std::size_t> removed, const CancelToken& cancel);
 
   std::size_t work() const { return work_; }
+  void set_max_work(std::size_t max_work) { max_work_ = max_work; }
   const std::vector<EdgeId>& edges() const { return edges_; }
   double length() const { return length_; }
   const std::vector<KeyPath>& key_paths() const { return key_paths_; }
@@ -89,6 +90,9 @@ class Improver {
   std::vector<KeyPath> key_paths_;
   std::vector<VertexId> steiner_;
   std::size_t work_ = 0;  // vertices settled by all searches so far
+  std::size_t max_work_ = SIZE_MAX;
+  // What one search may still settle: the budget left (at least 1, so a search ends).
+  std::size_t left() const { return work_ < max_work_ ? max_work_ - work_ : 1; }
 };
 
 void Improver::index(std::vector<EdgeId> edges) {
@@ -200,8 +204,8 @@ Result<double> Improver::rejoin(std::size_t parts, const std::vector<std::int32_
       }
     }
     for (VertexId v : new_vertices) search_.add_source(v);
-    const double left = budget - used;
-    if (auto st = search_.run_to_nearest(targets, cancel, left); !st.ok()) return st.take_error();
+    const double room = budget - used;
+    if (auto st = search_.run_to_nearest(targets, cancel, room, left()); !st.ok()) return st.take_error();
     const auto settled = search_.settled();
     work_ += settled.size();
     if (settled.empty()) return std::numeric_limits<double>::infinity();
@@ -246,7 +250,9 @@ Result<double> Improver::junction(const std::vector<std::int32_t>& part, const s
         search.block(vertices_[i]);
       }
     }
-    if (auto st = search.run({}, budget, cancel); !st.ok()) return st.take_error();
+    // A search cut short by the work budget only narrows the junctions considered; the move
+    // is still checked to shorten the tree.
+    if (auto st = search.run_limited(budget, left(), cancel); !st.ok()) return st.take_error();
     work_ += search.settled().size();
   }
   double best = std::numeric_limits<double>::infinity();
@@ -282,11 +288,11 @@ Result<bool> Improver::try_move(std::span<const std::size_t> removed, const Canc
   std::vector<std::uint8_t> attachable(vertices_.size(), 0);
   for (std::size_t i = 0; i < vertices_.size(); ++i) {
     if (!alive[i]) continue;
-    std::size_t left = 0;
-    for (HalfedgeId h : out_[i]) left += removed_edge_[HalfedgeMesh::edge(h).index()] ? 0 : 1;
+    std::size_t kept = 0;
+    for (HalfedgeId h : out_[i]) kept += removed_edge_[HalfedgeMesh::edge(h).index()] ? 0 : 1;
     const bool terminal = is_terminal_[vertices_[i].index()] != 0;
-    if (left == 0 && !terminal) alive[i] = 0;
-    attachable[i] = terminal ? left == 0 : 1;
+    if (kept == 0 && !terminal) alive[i] = 0;
+    attachable[i] = terminal ? kept == 0 : 1;
   }
   std::vector<std::int32_t> part(vertices_.size(), -1);
   const std::size_t parts = label_parts(part, alive);
@@ -361,9 +367,11 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
   tree.index(std::vector<EdgeId>(edges.begin(), edges.end()));
   ImproveResult result;
   result.stats.length_before = tree.length();
-  const std::size_t max_work = options.max_work > 0
-                                   ? static_cast<std::size_t>(options.max_work * static_cast<double>(mesh.num_vertices()))
-                                   : SIZE_MAX;
+  std::size_t max_work = options.max_work > 0
+                             ? static_cast<std::size_t>(options.max_work * static_cast<double>(mesh.num_vertices()))
+                             : SIZE_MAX;
+  if (options.max_settled > 0) max_work = std::min(max_work, options.max_settled);
+  tree.set_max_work(max_work);
   for (int pass = 0; pass < options.max_passes; ++pass) {
     if (cancel.is_cancelled()) return cancelled_error("seam improvement");
     SEAM_TRY(bool improved, sweep(tree, options, max_work, result.stats, cancel));
