@@ -8,7 +8,7 @@ FROM debian:bookworm-slim AS build
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
       g++ cmake ninja-build pkg-config \
-      libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev libspdlog-dev libeigen3-dev \
+      libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev libembree-dev libspdlog-dev libeigen3-dev \
       libsuitesparse-dev \
  && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
@@ -28,7 +28,7 @@ FROM debian:bookworm-slim AS runtime
 # curl for the HEALTHCHECK.
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      libcpp-httplib0.11 libspdlog1.10 libcholmod3 libopenblas0-pthread curl ca-certificates \
+      libcpp-httplib0.11 libspdlog1.10 libcholmod3 libopenblas0-pthread libembree3-3 curl ca-certificates \
  && rm -rf /var/lib/apt/lists/* \
  && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin seamd
 COPY --from=build /src/build/server/seamd /usr/local/bin/seamd

@@ -10,7 +10,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 
 packages=(build-essential cmake ninja-build pkg-config ccache
-          libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev draco
+          libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev draco libembree-dev
           libspdlog-dev doctest-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread
           curl ca-certificates)
 # Node.js may come from elsewhere than Debian (Debian's npm then conflicts with it): only

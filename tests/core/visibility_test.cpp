@@ -1,0 +1,105 @@
+// Visibility by ray casting (core/visibility): what a camera sees, what the mesh hides from
+// it, how open each face is, and the edge multipliers a hidden seam uses.
+#include <doctest/doctest.h>
+
+#include "core/mesh/halfedge_mesh.h"
+#include "core/visibility/visibility.h"
+#include "fixtures.h"
+
+using namespace seam::core;
+namespace fixtures = seam::fixtures;
+
+namespace {
+
+HalfedgeMesh build(const fixtures::Soup& s) {
+  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
+  REQUIRE(mesh.ok());
+  return std::move(mesh).value();
+}
+
+Vec3 normal(const HalfedgeMesh& m, FaceId f) {
+  const auto c = m.face_vertices(f);
+  return (m.position(c[1]) - m.position(c[0])).cross(m.position(c[2]) - m.position(c[0])).normalized();
+}
+
+Vec3 centroid(const HalfedgeMesh& m, FaceId f) {
+  const auto c = m.face_vertices(f);
+  return (m.position(c[0]) + m.position(c[1]) + m.position(c[2])) / 3.0;
+}
+
+}  // namespace
+
+TEST_CASE("a camera looking down sees the top faces, at the cosine of their tilt, and nothing else") {
+  const HalfedgeMesh cube = build(fixtures::voxel_surface({{0, 0, 0}}));
+  auto vis = compute_visibility(cube, VisibilityOptions{{Vec3(0, 0, -2)}});
+  REQUIRE(vis.ok());
+  for (std::uint32_t f = 0; f < cube.num_faces(); ++f) {
+    const double up = normal(cube, FaceId(f)).z();
+    CHECK(vis->seen[FaceId(f)] == doctest::Approx(std::max(0.0, up)));
+  }
+  CHECK(vis->rays == cube.num_faces());
+  // A tilted view sees the top and two sides, each at its cosine.
+  auto tilted = compute_visibility(cube, VisibilityOptions{{Vec3(-1, -1, -1)}});
+  REQUIRE(tilted.ok());
+  const Vec3 to_camera = Vec3(1, 1, 1).normalized();
+  for (std::uint32_t f = 0; f < cube.num_faces(); ++f) {
+    CHECK(tilted->seen[FaceId(f)] == doctest::Approx(std::max(0.0, normal(cube, FaceId(f)).dot(to_camera))));
+  }
+}
+
+TEST_CASE("what the mesh hides is not seen, and a narrow gap is not open") {
+  // Two unit cubes one above the other with a gap of one unit between them.
+  const HalfedgeMesh two = build(fixtures::voxel_surface({{0, 0, 0}, {0, 0, 2}}));
+  VisibilityOptions options{{Vec3(0, 0, -1)}};
+  options.ambient_occlusion = true;
+  options.ao_rays = 64;
+  options.ao_distance = 0.5;
+  auto vis = compute_visibility(two, options);
+  REQUIRE(vis.ok());
+  int hidden_tops = 0, seen_tops = 0;
+  for (std::uint32_t f = 0; f < two.num_faces(); ++f) {
+    const FaceId id(f);
+    const Vec3 n = normal(two, id), c = centroid(two, id);
+    if (n.z() > 0.5 && c.z() < 1.5) {  // the lower cube's top, under the upper cube
+      CHECK(vis->seen[id] == 0.0);
+      CHECK(vis->openness[id] < 0.9);  // the cube above covers about a quarter of its sky
+      CHECK(vis->openness[id] > 0.5);
+      ++hidden_tops;
+    } else if (n.z() > 0.5) {  // the upper cube's top: in the open
+      CHECK(vis->seen[id] == doctest::Approx(1.0));
+      CHECK(vis->openness[id] == 1.0);
+      ++seen_tops;
+    }
+  }
+  CHECK(hidden_tops == 2);
+  CHECK(seen_tops == 2);
+  // The same with four threads: the same numbers.
+  options.threads = 4;
+  auto again = compute_visibility(two, options);
+  REQUIRE(again.ok());
+  CHECK(again->seen.raw() == vis->seen.raw());
+  CHECK(again->openness.raw() == vis->openness.raw());
+}
+
+TEST_CASE("hiding multipliers: seen edges cost 1 + strength, unseen 1; silhouettes count as seen") {
+  const HalfedgeMesh cube = build(fixtures::voxel_surface({{0, 0, 0}}));
+  auto vis = compute_visibility(cube, VisibilityOptions{{Vec3(0, 0, -1)}});
+  REQUIRE(vis.ok());
+  const std::vector<double> m = hiding_multipliers(cube, *vis, 4.0);
+  REQUIRE(m.size() == cube.num_edges());
+  for (std::uint32_t e = 0; e < cube.num_edges(); ++e) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+    const double z = std::min(cube.position(cube.tail(h)).z(), cube.position(cube.head(h)).z());
+    CHECK(m[e] == doctest::Approx(z == 1.0 ? 5.0 : 1.0));  // edges of the top square cost 5
+  }
+}
+
+TEST_CASE("bad views are refused") {
+  const HalfedgeMesh cube = build(fixtures::voxel_surface({{0, 0, 0}}));
+  CHECK(compute_visibility(cube, VisibilityOptions{{Vec3(0, 0, 0)}}).error().code == ErrorCode::kInvalidArgument);
+  CHECK(compute_visibility(cube, VisibilityOptions{{Vec3(0, std::nan(""), 1)}}).error().code == ErrorCode::kInvalidArgument);
+  VisibilityOptions many;
+  many.ambient_occlusion = true;
+  many.ao_rays = 0;
+  CHECK(compute_visibility(cube, many).error().code == ErrorCode::kInvalidArgument);
+}
