@@ -330,155 +330,169 @@ MinAreaRect min_area_rect(std::span<const Vec2> hull) {
   return best;
 }
 
-Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options, const CancelToken& cancel) {
-  const auto start = std::chrono::steady_clock::now();
-  if (Status valid = validate(charts, options); !valid.ok()) return valid.take_error();
-  const std::size_t n = charts.size();
-  PackResult result;
-  result.placements.resize(n);
-  if (n == 0) return result;
+namespace {
 
-  // Unit density: UV area = surface area, so texels per 3D length are equal for all charts.
-  std::vector<double> scale(n);
-  std::vector<MinAreaRect> rect(n);
-  std::vector<Vec2> sizes(n);
-  std::vector<std::vector<Vec2>> hulls(n);
+// Each chart at unit density (UV area = surface area), its hull and its rectangle.
+struct Prepared {
+  std::vector<double> scale;
+  std::vector<std::vector<Vec2>> hulls;
+  std::vector<MinAreaRect> rect;  // minimal-area (rotate) or axis-aligned bounding rectangle
   double total_area = 0;
-  for (std::size_t c = 0; c < n; ++c) {
+};
+
+Result<Prepared> prepare(std::span<const PackChart> charts, bool rotate_charts, const CancelToken& cancel) {
+  Prepared p;
+  for (std::size_t c = 0; c < charts.size(); ++c) {
     if (cancel.is_cancelled()) return cancelled_error("pack");
     const double area = uv_area(charts[c]);
     if (!(area > 0)) {
       return make_error(ErrorCode::kInvalidArgument, "pack: chart " + std::to_string(c) + " has zero UV area");
     }
-    scale[c] = std::sqrt(charts[c].surface_area / area);
-    total_area += charts[c].surface_area;
+    p.scale.push_back(std::sqrt(charts[c].surface_area / area));
+    p.total_area += charts[c].surface_area;
     std::vector<Vec2> used;
     used.reserve(charts[c].triangles.size() * 3);
     for (const Triangle& t : charts[c].triangles) {
-      for (std::uint32_t v : t) used.push_back(scale[c] * charts[c].uv[v]);
+      for (std::uint32_t v : t) used.push_back(p.scale[c] * charts[c].uv[v]);
     }
-    hulls[c] = convex_hull(used);
-    const std::vector<Vec2>& hull = hulls[c];
-    if (options.rotate) {
-      rect[c] = min_area_rect(hull);
+    p.hulls.push_back(convex_hull(used));
+    if (rotate_charts) {
+      p.rect.push_back(min_area_rect(p.hulls[c]));
     } else {
       Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
       Vec2 hi = -lo;
-      for (const Vec2& p : hull) {
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
+      for (const Vec2& q : p.hulls[c]) {
+        lo = lo.cwiseMin(q);
+        hi = hi.cwiseMax(q);
       }
-      rect[c] = {0.0, hi - lo, lo};
+      p.rect.push_back({0.0, hi - lo, lo});
     }
-    sizes[c] = rect[c].size;
   }
+  return p;
+}
 
-  // Charts never touch, even with margin_px = 0 (a millionth of the atlas side between them),
-  // so that rounding cannot make neighbours overlap.
-  const double margin_fraction = std::max(options.margin_px / options.texture_size, 1e-6);
-  std::vector<std::size_t> base(n);
-  std::iota(base.begin(), base.end(), std::size_t{0});
+// A packed square: its side (unit-density units), each chart's rectangle frame and its slot.
+struct Layout {
   double side = std::numeric_limits<double>::infinity();
+  std::vector<MinAreaRect> rect;
+  std::vector<detail::ProfileSlot> placed;
+};
+
+// Packer (1): the rectangles, three orders; long charts retried diagonally.
+Layout rectangle_layout(const Prepared& prepared, double margin_fraction, bool rotate_charts) {
+  const std::size_t n = prepared.rect.size();
+  Layout best;
   std::vector<Slot> slots;
-  auto pack_all = [&](const std::vector<Vec2>& candidate_sizes) {
+  auto pack_all = [&](const std::vector<MinAreaRect>& rect) {
     auto by = [&](auto key) {
-      std::vector<std::size_t> order = base;
+      std::vector<std::size_t> order(n);
+      std::iota(order.begin(), order.end(), std::size_t{0});
       std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) > key(b); });
       return order;
     };
-    // A few deterministic orders; the smallest square wins.
+    std::vector<Vec2> sizes(n);
+    for (std::size_t c = 0; c < n; ++c) sizes[c] = rect[c].size;
     const std::vector<std::size_t> orders[] = {
-        by([&](std::size_t c) { return candidate_sizes[c].y(); }),
-        by([&](std::size_t c) { return candidate_sizes[c].x() * candidate_sizes[c].y(); }),
-        by([&](std::size_t c) { return candidate_sizes[c].x(); }),
+        by([&](std::size_t c) { return sizes[c].y(); }),
+        by([&](std::size_t c) { return sizes[c].prod(); }),
+        by([&](std::size_t c) { return sizes[c].x(); }),
     };
-    bool improved = false;
     for (const auto& order : orders) {
       std::vector<Slot> trial;
-      const double s = smallest_square(candidate_sizes, order, margin_fraction, options.rotate, trial);
-      if (s < side) {
-        side = s;
+      const double side = smallest_square(sizes, order, margin_fraction, rotate_charts, trial);
+      if (side < best.side) {
+        best.side = side;
+        best.rect = rect;
         slots = std::move(trial);
-        improved = true;
       }
     }
-    return improved;
   };
-  const std::vector<MinAreaRect> min_rect = rect;
-  pack_all(sizes);
-  if (options.rotate) {
-    // Charts longer than the square's side would be at their minimal area: turn those to their
-    // smallest enclosing square instead (a long strip lies diagonally), and keep that if the
-    // square shrinks.
-    std::vector<MinAreaRect> alt = rect;
-    std::vector<Vec2> alt_sizes = sizes;
+  pack_all(prepared.rect);
+  if (rotate_charts) {
+    // Charts longer than half the square: at their smallest enclosing square instead (a long
+    // strip lies diagonally); kept if the square shrinks.
+    std::vector<MinAreaRect> alt = prepared.rect;
     bool any = false;
     for (std::size_t c = 0; c < n; ++c) {
-      if (sizes[c].x() > 0.5 * side) {
-        alt[c] = min_square_rect(hulls[c]);
-        alt_sizes[c] = alt[c].size;
+      if (prepared.rect[c].size.x() > 0.5 * best.side) {
+        alt[c] = min_square_rect(prepared.hulls[c]);
         any = true;
       }
     }
-    if (cancel.is_cancelled()) return cancelled_error("pack");
-    if (any && pack_all(alt_sizes)) {
-      rect = std::move(alt);
-      sizes = std::move(alt_sizes);
-    }
+    if (any) pack_all(alt);
   }
-
-  // Slots as (quarter turns, shift) of each chart's rectangle frame [0, size].
-  std::vector<detail::ProfileSlot> placed(n);
+  best.placed.resize(n);
   for (std::size_t c = 0; c < n; ++c) {
-    placed[c] = {slots[c].turned ? 1 : 0, slots[c].pos + Vec2::Constant(0.5 * margin_fraction * side)};
+    best.placed[c] = {slots[c].turned ? 1 : 0, slots[c].pos + Vec2::Constant(0.5 * margin_fraction * best.side)};
   }
-  // Few charts: also drop them by their column profiles, so that concave charts nest; keep the
-  // smaller square. (Its cost grows with charts x columns; the rectangles serve large counts.)
-  if (n <= kMaxProfileCharts) {
-    std::vector<detail::ProfileChart> profile(n);
-    for (std::size_t c = 0; c < n; ++c) {
-      const MinAreaRect& r = min_rect[c];
-      profile[c].size = r.size;
-      profile[c].boundary = boundary_segments(charts[c], [&](const Vec2& uv) {
-        return Vec2(rotate(scale[c] * uv, r.angle) - r.min);
-      });
-    }
-    if (cancel.is_cancelled()) return cancelled_error("pack");
-    std::vector<detail::ProfileSlot> profile_slots;
-    const double profile_side = smallest_profile_square(profile, margin_fraction, options.rotate, side, profile_slots);
-    if (profile_side < side) {
-      side = profile_side;
-      rect = min_rect;
-      placed = std::move(profile_slots);
-    }
-  }
+  return best;
+}
 
-  const double inv = 1.0 / side;
+// Packer (2): the charts' column profiles, for few charts; replaces `layout` if smaller.
+void try_profile_layout(std::span<const PackChart> charts, const Prepared& prepared, double margin_fraction,
+                        bool rotate_charts, Layout& layout) {
+  const std::size_t n = charts.size();
+  if (n > kMaxProfileCharts) return;
+  std::vector<detail::ProfileChart> profile(n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const MinAreaRect& r = prepared.rect[c];
+    profile[c].size = r.size;
+    profile[c].boundary = boundary_segments(charts[c], [&](const Vec2& uv) {
+      return Vec2(rotate(prepared.scale[c] * uv, r.angle) - r.min);
+    });
+  }
+  std::vector<detail::ProfileSlot> slots;
+  const double side = smallest_profile_square(profile, margin_fraction, rotate_charts, layout.side, slots);
+  if (side < layout.side) layout = {side, prepared.rect, std::move(slots)};
+}
+
+// The similarity of each chart, and the figures of the layout.
+PackResult placements_of(std::span<const PackChart> charts, const Prepared& prepared, const Layout& layout,
+                         int texture_size) {
+  PackResult result;
+  const double inv = 1.0 / layout.side;
   double min_density = std::numeric_limits<double>::infinity();
   double max_density = 0;
   double rect_area = 0;
-  for (std::size_t c = 0; c < n; ++c) {
-    ChartPlacement& p = result.placements[c];
-    // q = Rot(rect angle) (scale uv) - rect.min lies in [0, size]; then turned and shifted.
-    const int turn = placed[c].turn;
-    const double angle = rect[c].angle + turn * 0.5 * std::numbers::pi;
-    const Vec2 shift = detail::turn_point(-rect[c].min, turn, rect[c].size) + placed[c].shift;
-    const Vec2 extent = (turn & 1) ? Vec2(rect[c].size.y(), rect[c].size.x()) : rect[c].size;
-    const Vec2 corner = placed[c].shift;
-    p.scale = scale[c] * inv;
-    p.angle = angle;
-    p.offset = shift * inv;
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const MinAreaRect& r = layout.rect[c];
+    const int turn = layout.placed[c].turn;
+    // q = Rot(r.angle) (scale uv) - r.min lies in [0, r.size]; then turned and shifted.
+    const Vec2 extent = (turn & 1) ? Vec2(r.size.y(), r.size.x()) : r.size;
+    const Vec2 corner = layout.placed[c].shift;
+    ChartPlacement p;
+    p.scale = prepared.scale[c] * inv;
+    p.angle = r.angle + turn * 0.5 * std::numbers::pi;
+    p.offset = (detail::turn_point(-r.min, turn, r.size) + corner) * inv;
     p.rect_min = corner * inv;
     p.rect_max = (corner + extent) * inv;
-    rect_area += extent.x() * extent.y();
-    const double density = options.texture_size * p.scale * std::sqrt(uv_area(charts[c]) / charts[c].surface_area);
+    rect_area += extent.prod();
+    const double density = texture_size * p.scale * std::sqrt(uv_area(charts[c]) / charts[c].surface_area);
     min_density = std::min(min_density, density);
     max_density = std::max(max_density, density);
+    result.placements.push_back(p);
   }
-  result.coverage = total_area * inv * inv;
-  result.rect_fill = rect_area > 0 ? total_area / rect_area : 0;
+  result.coverage = prepared.total_area * inv * inv;
+  result.rect_fill = rect_area > 0 ? prepared.total_area / rect_area : 0;
   result.texel_density = max_density;
   result.density_ratio = max_density / min_density;
+  return result;
+}
+
+}  // namespace
+
+Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options, const CancelToken& cancel) {
+  const auto start = std::chrono::steady_clock::now();
+  if (Status valid = validate(charts, options); !valid.ok()) return valid.take_error();
+  if (charts.empty()) return PackResult{};
+  SEAM_TRY(const Prepared prepared, prepare(charts, options.rotate, cancel));
+  // Charts never touch, even with margin_px = 0 (a millionth of the atlas side between them),
+  // so that rounding cannot make neighbours overlap.
+  const double margin_fraction = std::max(options.margin_px / options.texture_size, 1e-6);
+  Layout layout = rectangle_layout(prepared, margin_fraction, options.rotate);
+  if (cancel.is_cancelled()) return cancelled_error("pack");
+  try_profile_layout(charts, prepared, margin_fraction, options.rotate, layout);
+  PackResult result = placements_of(charts, prepared, layout, options.texture_size);
   result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
