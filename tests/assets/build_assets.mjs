@@ -375,6 +375,25 @@ function props(doc, buffer, scene) {
   lines.setAttribute('POSITION', doc.createAccessor().setType('VEC3').setArray(new Float32Array([0, 0, 0, 0, 1, 0, 1, 1, 0])).setBuffer(buffer));
   lines.setIndices(doc.createAccessor().setType('SCALAR').setArray(new Uint16Array([0, 1, 1, 2])).setBuffer(buffer));
   const guides = doc.createMesh('guides').addPrimitive(lines);
+  // A ribbon as older exporters write bands: one TRIANGLE_STRIP around an open tube (two
+  // boundary loops), its wrap's vertices stored twice (u = 0 and u = 1).
+  const ring = 48;
+  const ribbonPos = [], ribbonNormal = [], ribbonUv = [], ribbonIndex = [];
+  for (let i = 0; i <= ring; ++i) {
+    const a = (2 * Math.PI * i) / ring;
+    for (const y of [0, 0.3]) {
+      ribbonPos.push(0.5 * Math.cos(a), y + 0.05 * Math.sin(3 * a), 0.5 * Math.sin(a));
+      ribbonNormal.push(Math.cos(a), 0, Math.sin(a));
+      ribbonUv.push(i / ring, y / 0.3);
+    }
+  }
+  for (let i = 0; i < 2 * (ring + 1); ++i) ribbonIndex.push(i);
+  const strip = doc.createPrimitive().setMode(Primitive.Mode.TRIANGLE_STRIP).setMaterial(mats[1]);
+  strip.setAttribute('POSITION', doc.createAccessor().setType('VEC3').setArray(new Float32Array(ribbonPos)).setBuffer(buffer));
+  strip.setAttribute('NORMAL', doc.createAccessor().setType('VEC3').setArray(new Float32Array(ribbonNormal)).setBuffer(buffer));
+  strip.setAttribute('TEXCOORD_0', doc.createAccessor().setType('VEC2').setArray(new Float32Array(ribbonUv)).setBuffer(buffer));
+  strip.setIndices(doc.createAccessor().setType('SCALAR').setArray(new Uint16Array(ribbonIndex)).setBuffer(buffer));
+  guides.addPrimitive(strip);
 
   const root = doc.createNode('root').setTranslation([0, 0.5, 0]).setScale([2, 2, 2]);
   scene.addChild(root);
@@ -532,7 +551,11 @@ async function validate(bytes) {
 function triangleCount(doc) {
   let faces = 0;
   for (const mesh of doc.getRoot().listMeshes())
-    for (const p of mesh.listPrimitives()) if (p.getMode() === Primitive.Mode.TRIANGLES) faces += p.getIndices().getCount() / 3;
+    for (const p of mesh.listPrimitives()) {
+      const n = p.getIndices().getCount();
+      if (p.getMode() === Primitive.Mode.TRIANGLES) faces += n / 3;
+      else if (p.getMode() === Primitive.Mode.TRIANGLE_STRIP || p.getMode() === Primitive.Mode.TRIANGLE_FAN) faces += n - 2;
+    }
   return faces;
 }
 
@@ -571,7 +594,7 @@ async function main() {
   });
 
   const recipes = [
-    ['props', 'multi-mesh, multi-primitive (3+1+2 triangle primitives, 6 materials), node hierarchy, a mesh instanced by 3 nodes, UV and flat-shading splits, a LINES primitive', props, null],
+    ['props', 'multi-mesh, multi-primitive (3+1+2 triangle primitives, 4 materials), node hierarchy, a mesh instanced by 3 nodes, UV and flat-shading splits, a LINES primitive beside a TRIANGLE_STRIP one', props, null],
     ['props_draco', 'props, KHR_draco_mesh_compression (edgebreaker, 14-bit positions)', props, 'draco'],
     ['props_quantized', 'props, KHR_mesh_quantization (int16 positions, int8 normals, uint16 UVs)', props, 'quantize'],
     ['skinned', 'a skinned creature (2 primitives): JOINTS_0 (u8), WEIGHTS_0, 4-joint skin, inverseBindMatrices, a rotation animation', skinned, null],
