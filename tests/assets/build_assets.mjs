@@ -380,7 +380,7 @@ function props(doc, buffer, scene) {
   const ring = 48;
   const ribbonPos = [], ribbonNormal = [], ribbonUv = [], ribbonIndex = [];
   for (let i = 0; i <= ring; ++i) {
-    const a = (2 * Math.PI * i) / ring;
+    const a = i === ring ? 0 : (2 * Math.PI * i) / ring;  // the wrap at exactly the first positions
     for (const y of [0, 0.3]) {
       ribbonPos.push(0.5 * Math.cos(a), y + 0.05 * Math.sin(3 * a), 0.5 * Math.sin(a));
       ribbonNormal.push(Math.cos(a), 0, Math.sin(a));
