@@ -208,6 +208,26 @@ ApiResult<PackParams> pack_from_json(const json& v) {
   return out;
 }
 
+ApiResult<std::vector<std::array<double, 3>>> views_from_json(const json& v) {
+  if (!v.is_array() || v.empty() || v.size() > 64) {
+    return invalid("hide_from", "hide_from must be an array of 1 to 64 view directions [x, y, z]");
+  }
+  std::vector<std::array<double, 3>> out;
+  for (const auto& d : v) {
+    if (!d.is_array() || d.size() != 3) return invalid("hide_from", "hide_from: each view direction is [x, y, z]");
+    std::array<double, 3> p{};
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (!d[c].is_number() || !std::isfinite(d[c].get<double>())) {
+        return invalid("hide_from", "hide_from: coordinates must be finite numbers");
+      }
+      p[c] = d[c].get<double>();
+    }
+    if (p[0] == 0 && p[1] == 0 && p[2] == 0) return invalid("hide_from", "hide_from: a view direction cannot be [0, 0, 0]");
+    out.push_back(p);
+  }
+  return out;
+}
+
 }  // namespace
 
 ApiResult<SeamParams> params_from_json(const json& params) {
@@ -252,6 +272,16 @@ ApiResult<SeamParams> params_from_json(const json& params) {
       else return invalid("output", "output must be \"json\", \"glb\" or \"svg\"");
     } else if (key == "pack") {
       SEAM_TRY(out.pack, pack_from_json(v));
+    } else if (key == "hide_from") {
+      SEAM_TRY(out.hide_from, views_from_json(v));
+    } else if (key == "hide_occluded") {
+      if (!v.is_boolean()) return invalid("hide_occluded", "hide_occluded must be true or false");
+      out.hide_occluded = v.get<bool>();
+    } else if (key == "hide_strength") {
+      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0 || v.get<double>() > 1000) {
+        return invalid("hide_strength", "hide_strength must be a number from 0 to 1000");
+      }
+      out.hide_strength = v.get<double>();
     } else if (key == "charts") {
       const std::string m = v.is_string() ? v.get<std::string>() : "";
       if (m == "seam") out.charts = ChartMode::kSeam;
@@ -279,7 +309,7 @@ ApiResult<SeamParams> params_from_json(const json& params) {
     } else {
       return invalid(key.substr(0, 60), "unknown parameter \"" + key.substr(0, 60) +
                               "\" (known: extrema, mesh, primitive, primitives, method, uv, output, draco, refine, repair, "
-                                         "weld_epsilon, pack, charts, feature_angle_deg)");
+                                         "weld_epsilon, pack, charts, feature_angle_deg, hide_from, hide_occluded, hide_strength)");
     }
   }
   if (primitives_given && (out.mesh || out.primitive)) {
@@ -318,11 +348,11 @@ ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string,
         return invalid(key, key + " must be a non-negative integer");
       }
       params[key] = std::stoull(value);
-    } else if (key == "draco" || key == "refine" || key == "repair") {
+    } else if (key == "draco" || key == "refine" || key == "repair" || key == "hide_occluded") {
       if (value == "true" || value == "1") params[key] = true;
       else if (value == "false" || value == "0") params[key] = false;
       else return invalid(key, key + " must be true or false");
-    } else if (key == "weld_epsilon") {
+    } else if (key == "weld_epsilon" || key == "hide_strength" || key == "feature_angle_deg") {
       std::size_t used = 0;
       double d = 0;
       try {
@@ -330,7 +360,7 @@ ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string,
       } catch (...) {
         used = 0;
       }
-      if (used == 0 || used != value.size()) return invalid("weld_epsilon", "weld_epsilon must be a number");
+      if (used == 0 || used != value.size()) return invalid(key, key + " must be a number");
       params[key] = d;
     } else {
       params[key] = value;  // strings; unknown keys are refused by params_from_json

@@ -79,6 +79,11 @@ struct SeamParams {
   PackParams pack;
   ChartMode charts = ChartMode::kSeam;
   double feature_angle_deg = 60;  ///< charts "features": dihedral angle of a sharp edge, 0..180
+  /// Seeing and steering (API.md v2, the paper's §6): directions in which cameras look; edges
+  /// they see cost 1 + hide_strength times more. At most 64.
+  std::vector<std::array<double, 3>> hide_from;
+  bool hide_occluded = false;  ///< open places cost more, crevices less (ambient occlusion)
+  double hide_strength = 4;    ///< 0..1000
   /// Repair what the builder would refuse (core::repair_mesh: non-manifold edges split into
   /// sheets, orientation made consistent, degenerate faces left out of the topology but kept
   /// in the asset). false: v1's 422s (pinched vertices are split either way).

@@ -3,11 +3,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <unordered_map>
 
 #include "core/atlas/features.h"
+#include "core/visibility/visibility.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/repair.h"
@@ -544,6 +547,83 @@ core::SeamResult seam_on_surface(core::SeamResult seam, const core::HalfedgeMesh
   return seam;
 }
 
+// What steers the seam (API.md v2 "Seeing and steering"): per edge of the surface, the
+// product of the hiding multipliers (views, openness) and the mean of its ends' _SEAM_COST.
+struct Steering {
+  std::vector<double> edge_costs;  ///< empty: nothing steers, the seam is the shortest
+  core::Visibility visibility;
+};
+
+constexpr double kFreeEdge = 1e-3;  // _SEAM_COST 0 ("free") still has a positive weight
+
+// _SEAM_COST per surface vertex: the largest over the input vertices welded into it.
+ApiResult<std::vector<double>> vertex_costs(const PrimitiveData& data, const Surface& s) {
+  const auto it = std::find_if(data.attributes.begin(), data.attributes.end(),
+                               [](const AttributeArray& a) { return a.name == "_SEAM_COST"; });
+  if (it == data.attributes.end()) return std::vector<double>{};
+  if (it->component_type != 5126 || it->components != 1) {
+    return make_api_error(ApiErrorCode::kMalformedAsset, "_SEAM_COST must be a SCALAR float attribute");
+  }
+  std::vector<double> welded(s.welded_vertices, 0.0);
+  for (std::size_t i = 0; i < it->count; ++i) {
+    float c;
+    std::memcpy(&c, it->data.data() + 4 * i, 4);
+    if (!std::isfinite(c) || c < 0) {
+      return make_api_error(ApiErrorCode::kMalformedAsset,
+                            "_SEAM_COST of vertex " + std::to_string(i) + " is " + std::to_string(c) +
+                                "; it must be a finite number >= 0 (0 free, 1 neutral, large avoided)",
+                            {{"vertex", i}});
+    }
+    double& w = welded[s.canon.input_to_vertex[i]];
+    w = std::max(w, static_cast<double>(c));
+  }
+  std::vector<double> out(s.mesh.num_vertices());
+  for (std::size_t v = 0; v < out.size(); ++v) out[v] = welded[s.canon.vertex_to_welded[v]];
+  return out;
+}
+
+ApiResult<Steering> steering(const PrimitiveData& data, const Surface& s, const SeamParams& params, unsigned threads,
+                             const core::CancelToken& cancel) {
+  Steering out;
+  SEAM_TRY(const std::vector<double> costs, vertex_costs(data, s));
+  const bool hiding = !params.hide_from.empty() || params.hide_occluded;
+  if (costs.empty() && !hiding) return out;
+  out.edge_costs.assign(s.mesh.num_edges(), 1.0);
+  if (hiding) {
+    core::VisibilityOptions options;
+    for (const auto& d : params.hide_from) options.views.emplace_back(d[0], d[1], d[2]);
+    options.ambient_occlusion = params.hide_occluded;
+    options.threads = threads;
+    auto vis = core::compute_visibility(s.mesh, options, cancel);
+    if (!vis.ok()) return from_core(vis.error());
+    out.visibility = std::move(vis).value();
+    out.edge_costs = core::hiding_multipliers(s.mesh, out.visibility, params.hide_strength);
+  }
+  if (!costs.empty()) {
+    for (std::uint32_t e = 0; e < s.mesh.num_edges(); ++e) {
+      const core::HalfedgeId h = core::HalfedgeMesh::halfedge(core::EdgeId(e));
+      const double c = 0.5 * (costs[s.mesh.tail(h).index()] + costs[s.mesh.head(h).index()]);
+      out.edge_costs[e] *= std::max(c, kFreeEdge);
+    }
+  }
+  return out;
+}
+
+// The length of `edges` that some view sees (a face of the edge front-facing and unoccluded).
+double visible_length(const core::HalfedgeMesh& mesh, const core::Visibility& vis, const std::vector<core::EdgeId>& edges) {
+  double length = 0;
+  for (const core::EdgeId e : edges) {
+    const core::HalfedgeId h = core::HalfedgeMesh::halfedge(e);
+    bool seen = false;
+    for (const core::HalfedgeId side : {h, core::HalfedgeMesh::twin(h)}) {
+      const core::FaceId f = mesh.face(side);
+      seen = seen || (f.valid() && vis.seen[f] > 0);
+    }
+    if (seen) length += mesh.edge_length(e);
+  }
+  return length;
+}
+
 struct SeamCut {
   core::SeamResult seam;
   std::vector<core::EdgeId> cut_edges;  ///< on the surface: seam, cut graph and feature edges
@@ -655,6 +735,8 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   seam_options.method = params.method;
   seam_options.refine = params.refine;
   seam_options.threads = std::max(1u, options.threads);
+  SEAM_TRY(const Steering steer, steering(data, surface, params, seam_options.threads, cancel));
+  seam_options.edge_costs = steer.edge_costs;
   SEAM_TRY(const SeamCut seam_cut, seam_and_cuts(surface, terminals, params, seam_options, cancel));
   const core::SeamResult* seam = &seam_cut.seam;
   const std::vector<core::EdgeId>& cut_edges = seam_cut.cut_edges;
@@ -686,6 +768,10 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   label_charts(*cut, output.cut_vertex, result);
   json seam_json = seam_summary(*seam, cut_edges, surface, params.method);
   if (params.charts == ChartMode::kFeatures) seam_json["feature_edges"] = seam_cut.feature_edges;
+  seam_json["cost"] = seam->cost;
+  if (!steer.visibility.seen.empty()) {
+    seam_json["visible_length"] = visible_length(surface.mesh, steer.visibility, seam->seam_edges);
+  }
   result.cut.seam_extras = {{"method", seam_json["method"]},       {"length", seam->length},
                             {"edges", seam_json["edges"]},         {"extrema", seam_json["extrema"]},
                             {"terminals", seam_json["terminals"]}, {"steiner_points", seam_json["steiner_points"]},
