@@ -7,7 +7,7 @@
 FROM debian:bookworm-slim AS build
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      g++ cmake ninja-build pkg-config \
+      g++ cmake ninja-build pkg-config nodejs npm \
       libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev libembree-dev libspdlog-dev libeigen3-dev \
       libsuitesparse-dev \
  && rm -rf /var/lib/apt/lists/*
@@ -16,6 +16,11 @@ COPY CMakeLists.txt ./
 COPY core core
 COPY api api
 COPY server server
+# The viewer: three.js and esbuild from npm (pinned by web/package-lock.json), bundled at build
+# time and embedded into seamd; no browser is downloaded.
+COPY web/package.json web/package-lock.json web/build.mjs web/
+COPY web/src web/src
+RUN PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --prefix web --no-audit --no-fund --loglevel=error
 RUN cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WERROR=ON \
       -DSEAM_BUILD_TESTS=OFF -DSEAM_BUILD_SERVER=ON -DSEAM_BUILD_BENCH=OFF \
  && cmake --build build --target seamd -j "$(nproc)" \

@@ -32,7 +32,9 @@ api::ApiError library_status_error(int status, const std::string& path, std::siz
   switch (status) {
     case 404:
       return make_api_error(ApiErrorCode::kNotFound,
-                            "no route " + path + "; routes: POST /seam, GET /healthz, /readyz, /metrics, /version");
+                            "no route " + path +
+                                "; routes: POST /seam, GET / (the viewer), /openapi.json, /sample.glb, /healthz, "
+                                "/readyz, /metrics, /version");
     case 413:
       return make_api_error(ApiErrorCode::kPayloadTooLarge,
                             "the request body is larger than the limit of " + std::to_string(max_body_bytes) +
