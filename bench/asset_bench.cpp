@@ -4,7 +4,7 @@
 // Paired runs (whole, then each primitive alone with v1's {"mesh": i, "primitive": j}), medians; the target is whole/sum <= 0.7 on
 // 2 threads. Then one whole-asset run per asset of the set, for the per-asset table.
 //
-//   asset_bench [PAIRS=3] [THREADS=2]
+//   asset_bench [PAIRS=5] [THREADS=2]
 //
 // The assets are built by scripts/fetch-test-data.sh (tests/assets/build_assets.mjs) into
 // .cache/assets; the benchmark exits with that hint when they are missing.
@@ -91,7 +91,7 @@ std::vector<std::pair<int, int>> triangle_primitives(const std::string& asset) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int pairs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  const int pairs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   const unsigned threads = argc > 2 ? static_cast<unsigned>(std::max(1, std::atoi(argv[2]))) : 2;
   const json manifest = json::parse(read_bytes(assets_dir() / "manifest.json"));
 
@@ -102,6 +102,7 @@ int main(int argc, char** argv) {
               bench6.size(), threads, pairs);
   std::vector<double> whole, sum, ratio;
   std::vector<std::vector<double>> each(prims.size());
+  std::vector<json> alone_body(prims.size());
   json whole_body;
   for (int r = 0; r < pairs; ++r) {
     const double w = run_ms(bench6, json::object(), threads, &whole_body);
@@ -114,7 +115,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < prims.size(); ++i) {
       // v1's selection: exactly this primitive, the rest of the asset carried through.
       const json one = {{"mesh", prims[i].first}, {"primitive", prims[i].second}};
-      const double ms = run_ms(bench6, one, threads);
+      const double ms = run_ms(bench6, one, threads, &alone_body[i]);
       each[i].push_back(ms);
       s += ms;
     }
@@ -123,7 +124,10 @@ int main(int argc, char** argv) {
     ratio.push_back(w / s);
     std::printf("  pair %d: whole %8.1f ms, one by one %8.1f ms, ratio %.3f\n", r + 1, w, s, w / s);
   }
-  std::printf("\n%-6s %-9s %-28s %8s %12s\n", "mesh", "primitive", "name", "faces", "alone ms");
+  // Where the time goes: each primitive's stages alone (the whole budget) and in the whole
+  // request (a share of it, beside the others), from the last pair.
+  std::printf("\n%-6s %-9s %-16s %8s %10s %14s %14s\n", "mesh", "primitive", "name", "faces", "alone ms",
+              "uv alone/whole", "seam alone/whole");
   const json& entries = whole_body["primitives"];
   for (std::size_t i = 0; i < prims.size(); ++i) {
     std::string name;
@@ -134,9 +138,19 @@ int main(int argc, char** argv) {
         faces = e["topology"]["faces"].get<long>();
       }
     }
-    std::printf("%-6d %-9d %-28s %8ld %12.1f\n", prims[i].first, prims[i].second, name.c_str(), faces, median(each[i]));
+    auto stage = [](const json& body, int m, int p, const char* key) {
+      for (const auto& e : body.value("primitives", json::array())) {
+        if (e["mesh"] == m && e["primitive"] == p) return e["timings_ms"].value(key, 0.0);
+      }
+      return 0.0;
+    };
+    const auto [m, p] = prims[i];
+    std::printf("%-6d %-9d %-16s %8ld %10.1f %6.0f/%-7.0f %6.0f/%-7.0f\n", m, p, name.c_str(), faces, median(each[i]),
+                stage(alone_body[i], m, p, "uv"), stage(whole_body, m, p, "uv"), stage(alone_body[i], m, p, "seam"),
+                stage(whole_body, m, p, "seam"));
   }
   const double r = median(ratio);
+  std::printf("whole request's stages: %s\n", whole_body["timings_ms"].dump().c_str());
   std::printf("\nwhole asset (median)            %10.1f ms\n", median(whole));
   std::printf("sum of primitives alone (median) %9.1f ms\n", median(sum));
   std::printf("ratio whole / sum (median of pairs) %.3f  target <= 0.70  %s\n\n", r, r <= 0.7 ? "met" : "NOT met");
