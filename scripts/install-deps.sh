@@ -36,7 +36,7 @@ fi
 
 # npm test tools (tests/package.json): the glTF-Validator, Kubernetes schemas, a YAML parser.
 if [[ "${1:-}" == "--test" && -f "$root/tests/package.json" ]]; then
-  for module in gltf-validator kubernetes-models yaml; do
+  for module in gltf-validator kubernetes-models yaml @gltf-transform/core @gltf-transform/extensions @gltf-transform/functions draco3dgltf; do
     if [[ ! -d "$root/tests/node_modules/$module" ]]; then
       echo "installing npm test tools into tests/node_modules"
       (cd "$root/tests" && npm install --no-audit --no-fund --loglevel=error)
