@@ -1,9 +1,12 @@
 // glTF I/O throughput: load (parse + read primitive) + weld + build, and encode, for GLB and
 // Draco GLB of ~100k and ~1M faces made at run time by midpoint-subdividing CGAL meshes.
-// Prints a table; asserts nothing. Run: build-*/bench/gltf_bench [--quick]
+// Prints a table; asserts nothing. Run: build-*/bench/gltf_bench [--quick] [--write-glb PATH]
+// --write-glb writes the largest mesh (bunny00 x16, 1.2M faces) as a plain GLB, the input of
+// `/usr/bin/time -v seamd seam PATH out.glb` for the whole job's stage timings and peak RSS.
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <unordered_map>
 
@@ -53,7 +56,12 @@ double best_of(int runs, F&& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  bool quick = false;
+  const char* write_path = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+    if (std::strcmp(argv[i], "--write-glb") == 0 && i + 1 < argc) write_path = argv[++i];
+  }
   struct Input {
     const char* name;
     int levels;
@@ -69,6 +77,12 @@ int main(int argc, char** argv) {
     }
     core::IndexedMesh mesh = std::move(loaded).value();
     for (int l = 0; l < input.levels; ++l) mesh = subdivide(mesh);
+    if (write_path && &input == &inputs[std::size(inputs) - 1]) {
+      const std::string glb = std::move(api::write_plain_glb(mesh, {}, false)).value();
+      std::ofstream(write_path, std::ios::binary).write(glb.data(), static_cast<std::streamsize>(glb.size()));
+      std::printf("wrote %s: %zu faces, %zu bytes\n", write_path, mesh.triangles.size(), glb.size());
+      return 0;
+    }
     for (bool draco : {false, true}) {
       const int runs = mesh.triangles.size() > 500000 ? 1 : 3;
       std::string glb;
