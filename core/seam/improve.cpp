@@ -383,4 +383,50 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
   return result;
 }
 
+Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                                  std::span<const VertexId> terminals, const CancelToken& cancel) {
+  if (terminals.size() < 2) return make_error(ErrorCode::kInvalidArgument, "needs at least two terminals");
+  PathSearch search(graph);
+  std::vector<std::uint8_t> in_tree(mesh.num_vertices(), 0), is_terminal(mesh.num_vertices(), 0);
+  for (VertexId t : terminals) is_terminal[t.index()] = 1;
+  std::vector<VertexId> tree_vertices = {terminals[0]};
+  in_tree[terminals[0].index()] = 1;
+  std::vector<EdgeId> edges;
+  std::vector<VertexId> targets;
+  for (std::size_t joined = 1; joined < terminals.size(); ++joined) {
+    search.reset();
+    search.clear_marks();
+    targets.clear();
+    for (VertexId t : terminals) {
+      if (in_tree[t.index()]) {
+        if (!edges.empty()) search.forbid(t);  // a joined terminal stays a leaf
+      } else {
+        search.block(t);
+        targets.push_back(t);
+      }
+    }
+    for (VertexId v : tree_vertices) {
+      if (edges.empty() || !is_terminal[v.index()]) search.add_source(v);
+    }
+    if (auto st = search.run_to_nearest(targets, cancel); !st.ok()) return st.take_error();
+    const VertexId reached = search.settled().empty() ? VertexId() : search.settled().back();
+    if (!reached.valid() || !is_terminal[reached.index()] || in_tree[reached.index()]) {
+      return make_error(ErrorCode::kInvalidArgument, "a terminal cannot be joined as a leaf");
+    }
+    for (HalfedgeId h : search.path_to(mesh, reached)) {
+      edges.push_back(HalfedgeMesh::edge(h));
+      const VertexId w = mesh.head(h);
+      if (!in_tree[w.index()]) {
+        in_tree[w.index()] = 1;
+        tree_vertices.push_back(w);
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  if (auto valid = check_full_component_tree(mesh, edges, terminals); !valid.ok()) {
+    return make_error(ErrorCode::kInvalidArgument, "nearest-terminal tree: " + valid.error().message);
+  }
+  return edges;
+}
+
 }  // namespace seam::core

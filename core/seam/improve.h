@@ -69,4 +69,14 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
                                    std::span<const EdgeId> edges, const ImproveOptions& options = {},
                                    const CancelToken& cancel = CancelToken::none());
 
+/// Another start for improve_tree: the shortest-path heuristic (Takahashi–Matsuyama) under
+/// the full-component constraint. From terminals[0], repeatedly joins the nearest terminal
+/// not yet in the tree by a shortest path from a non-terminal tree vertex (from the first
+/// terminal itself for the first path) that passes through no terminal.
+/// Errors: kInvalidArgument (fewer than two terminals, or a terminal that cannot be joined
+/// that way, e.g. two adjacent terminals first), kCancelled. O(k E log V).
+Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                                  std::span<const VertexId> terminals,
+                                                  const CancelToken& cancel = CancelToken::none());
+
 }  // namespace seam::core

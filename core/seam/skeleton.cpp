@@ -80,6 +80,17 @@ Result<SkeletonResult> finish(const HalfedgeMesh& mesh, const EdgeGraph& graph, 
     final_edges = std::move(second.edges);
     if (!improved_only.empty() && improved_only_length < second.stats.length_after) {
       final_edges = std::move(improved_only);
+      second.stats.length_after = improved_only_length;
+    }
+    // A third start with both steps on: the nearest-terminal tree, improved. It reaches
+    // regions the tour of Algorithm 2 never encloses (bunny00 farthest-point rows).
+    if (options.refine) {
+      auto greedy = nearest_terminal_tree(mesh, graph, terminals, cancel);
+      if (!greedy.ok() && greedy.error().code == ErrorCode::kCancelled) return greedy.take_error();
+      if (greedy.ok()) {
+        SEAM_TRY(ImproveResult third, improve(*greedy));
+        if (third.stats.length_after < second.stats.length_after) final_edges = std::move(third.edges);
+      }
     }
   }
   result.tree = make_steiner_tree(mesh, final_edges, terminals, edge_weights);
