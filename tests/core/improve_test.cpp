@@ -149,3 +149,28 @@ TEST_CASE("improve_tree: input that is not a full-component tree, and bad weight
   REQUIRE_FALSE(weights.ok());
   CHECK(weights.error().code == ErrorCode::kInvalidArgument);
 }
+
+TEST_CASE("nearest_terminal_tree: a full component on random sets, shortened by improve_tree, never below optimal") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<VertexId> terminals;
+    while (terminals.size() < static_cast<std::size_t>(3 + trial)) {
+      const VertexId v(static_cast<std::uint32_t>(rng() % mesh.num_vertices()));
+      if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
+    }
+    CAPTURE(trial);
+    auto greedy = nearest_terminal_tree(mesh, graph, terminals);
+    REQUIRE(greedy.ok());
+    const double length = require_full_component(mesh, *greedy, terminals);
+    auto improved = improve_tree(mesh, graph, {}, terminals, *greedy);
+    REQUIRE(improved.ok());
+    CHECK(require_full_component(mesh, improved->edges, terminals) <= length + 1e-12);
+    auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+    REQUIRE(optimal.ok());
+    CHECK(optimal->length <= length + 1e-9);
+  }
+  const std::vector<VertexId> one = {VertexId(0u)};
+  CHECK(nearest_terminal_tree(mesh, graph, one).error().code == ErrorCode::kInvalidArgument);
+}
