@@ -13,9 +13,11 @@ std::string vertex_pair(std::uint32_t a, std::uint32_t b) {
   return "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
 }
 
-// One corner of one triangle seen as the directed edge tail -> head.
+// One corner of one triangle seen as the directed edge tail -> head, kept in the bucket of
+// its smaller vertex (which is therefore not stored: 8 bytes instead of 16 halve the traffic
+// of the scatter and of the sorts, the bulk of the build's time).
 struct CornerEdge {
-  std::uint64_t key;     // (min vertex << 32) | max vertex: the undirected edge
+  std::uint32_t high;    // the larger vertex of the undirected edge
   std::uint32_t corner;  // 3 * face + i, the directed edge t[i] -> t[i+1]
 };
 
@@ -109,8 +111,8 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
   // each bucket. Both passes are stable in the corner index, so edge numbering depends only
   // on the input order.
   std::vector<CornerEdge> corners(3 * nf);
+  std::vector<std::uint32_t> bucket_start(nv + 1, 0);
   {
-    std::vector<std::uint32_t> bucket_start(nv + 1, 0);
     for (std::size_t f = 0; f < nf; ++f) {
       for (unsigned i = 0; i < 3; ++i) {
         ++bucket_start[std::min(triangles[f][i], triangles[f][(i + 1) % 3]) + 1];
@@ -120,10 +122,9 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
     std::vector<std::uint32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
     for (std::size_t f = 0; f < nf; ++f) {
       for (unsigned i = 0; i < 3; ++i) {
-        const std::uint64_t a = triangles[f][i];
-        const std::uint64_t b = triangles[f][(i + 1) % 3];
-        corners[fill[std::min(a, b)]++] = {(std::min(a, b) << 32) | std::max(a, b),
-                                           static_cast<std::uint32_t>(3 * f + i)};
+        const std::uint32_t a = triangles[f][i];
+        const std::uint32_t b = triangles[f][(i + 1) % 3];
+        corners[fill[std::min(a, b)]++] = {std::max(a, b), static_cast<std::uint32_t>(3 * f + i)};
       }
     }
     for (std::size_t v = 0; v < nv; ++v) {
@@ -131,14 +132,14 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
         // A high-valence vertex (a cone apex, a pole): insertion sort would be quadratic.
         std::sort(corners.begin() + bucket_start[v], corners.begin() + bucket_start[v + 1],
                   [](const CornerEdge& x, const CornerEdge& y) {
-                    return x.key != y.key ? x.key < y.key : x.corner < y.corner;
+                    return x.high != y.high ? x.high < y.high : x.corner < y.corner;
                   });
         continue;
       }
       for (std::uint32_t i = bucket_start[v] + 1; i < bucket_start[v + 1]; ++i) {
         const CornerEdge item = corners[i];
         std::uint32_t j = i;
-        for (; j > bucket_start[v] && corners[j - 1].key > item.key; --j) corners[j] = corners[j - 1];
+        for (; j > bucket_start[v] && corners[j - 1].high > item.high; --j) corners[j] = corners[j - 1];
         corners[j] = item;
       }
     }
@@ -152,11 +153,12 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
   {
     std::vector<std::uint32_t> non_manifold;
     std::vector<std::uint32_t> misoriented;
+    std::uint32_t a = 0;  // the bucket of corners[i]: the smaller vertex
     for (std::size_t i = 0; i < corners.size();) {
+      while (bucket_start[a + 1] <= i) ++a;
       std::size_t j = i + 1;
-      while (j < corners.size() && corners[j].key == corners[i].key) ++j;
-      const auto a = static_cast<std::uint32_t>(corners[i].key >> 32);
-      const auto b = static_cast<std::uint32_t>(corners[i].key & 0xffffffffu);
+      while (j < bucket_start[a + 1] && corners[j].high == corners[i].high) ++j;
+      const std::uint32_t b = corners[i].high;
       if (j - i > 2) {
         if (non_manifold.size() < 2 * kMaxReported) non_manifold.insert(non_manifold.end(), {a, b});
       } else if (j - i == 2 && corner_tail(corners[i].corner) == corner_tail(corners[i + 1].corner)) {

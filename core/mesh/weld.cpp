@@ -1,11 +1,13 @@
 #include "core/mesh/weld.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 namespace seam::core {
 namespace {
@@ -27,6 +29,32 @@ struct DisjointSets {
     parent[a] = b;
   }
 };
+
+// (key, index) pairs sorted by key, stably: an LSD radix sort, 8 passes of 8 bits, skipping
+// the passes whose digit is the same in every key. Equal keys keep their index order, so the
+// result is the one std::sort gives on (key, index) pairs with distinct ascending indices.
+// O(n) time, one scratch copy.
+struct KeyIndex {
+  std::uint64_t key;
+  std::uint32_t index;
+};
+
+void radix_sort_by_key(std::vector<KeyIndex>& items) {
+  const std::size_t n = items.size();
+  std::vector<std::array<std::uint32_t, 256>> count(8);
+  for (auto& c : count) c.fill(0);
+  for (const KeyIndex& item : items) {
+    for (unsigned d = 0; d < 8; ++d) ++count[d][(item.key >> (8 * d)) & 0xffu];
+  }
+  std::vector<KeyIndex> scratch(n);
+  for (unsigned d = 0; d < 8; ++d) {
+    if (count[d][(items.empty() ? 0 : items[0].key >> (8 * d)) & 0xffu] == n) continue;  // one digit value
+    std::uint32_t sum = 0;
+    for (std::uint32_t& c : count[d]) sum += std::exchange(c, sum);
+    for (const KeyIndex& item : items) scratch[count[d][(item.key >> (8 * d)) & 0xffu]++] = item;
+    items.swap(scratch);
+  }
+}
 
 std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
   // 21 bits per axis; collisions between far cells only cost extra distance checks.
@@ -88,24 +116,24 @@ Result<WeldResult> weld_vertices(std::span<const Vec3> positions, const WeldOpti
       h *= 0x94d049bb133111ebULL;
       return h ^ (h >> 31);
     };
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+    std::vector<KeyIndex> keyed(n);
     for (std::uint32_t i = 0; i < n; ++i) {
       const Vec3& p = positions[i];
       keyed[i] = {mix(bits(p.x()) ^ mix(bits(p.y()) ^ mix(bits(p.z())))), i};
     }
-    std::sort(keyed.begin(), keyed.end());
+    radix_sort_by_key(keyed);
     auto same = [&](std::uint32_t a, std::uint32_t b) {
       return positions[a].x() == positions[b].x() && positions[a].y() == positions[b].y() &&
              positions[a].z() == positions[b].z();
     };
     for (std::size_t begin = 0; begin < n;) {
       std::size_t end = begin + 1;
-      while (end < n && keyed[end].first == keyed[begin].first) ++end;
+      while (end < n && keyed[end].key == keyed[begin].key) ++end;
       for (std::size_t i = begin + 1; i < end; ++i) {
         if (cancel.poll(polls)) return cancelled_error("welding");
         for (std::size_t j = begin; j < i; ++j) {
-          if (same(keyed[i].second, keyed[j].second)) {
-            sets.unite(keyed[i].second, keyed[j].second);
+          if (same(keyed[i].index, keyed[j].index)) {
+            sets.unite(keyed[i].index, keyed[j].index);
             break;
           }
         }
