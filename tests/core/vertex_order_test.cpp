@@ -72,3 +72,42 @@ TEST_CASE("degenerate inputs: empty, one point, all points equal") {
   const std::vector<Vec3> same(5, Vec3(1, 1, 1));
   CHECK(spatial_order(same) == std::vector<std::uint32_t>{0, 1, 2, 3, 4});
 }
+
+TEST_CASE("the order is the documented one: by code, then (x, y, z), then index, with many ties") {
+  // Points on a coarse lattice with repeats and sub-grid offsets, so that many vertices share a
+  // Morton code (ties broken by position, then by index) and many codes share their low bytes.
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> cell(0, 40), sub(0, 3);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 20000; ++i) {
+    points.emplace_back(cell(rng) + 1e-9 * sub(rng), cell(rng) + 1e-9 * sub(rng), cell(rng));
+  }
+  points.emplace_back(1000, 1000, 1000);  // stretches the box so cells share codes
+  const std::vector<std::uint32_t> order = spatial_order(points);
+
+  // The reference: the comparison the header documents, by std::sort.
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double scale = static_cast<double>((1u << 21) - 1) / (hi - lo).maxCoeff();
+  auto code = [&](const Vec3& p) {
+    std::uint64_t c = 0;
+    const Vec3 q = (p - lo) * scale;
+    const std::uint64_t x = static_cast<std::uint64_t>(q.x()), y = static_cast<std::uint64_t>(q.y()),
+                        z = static_cast<std::uint64_t>(q.z());
+    for (int b = 0; b < 21; ++b) c |= ((x >> b) & 1) << (3 * b) | ((y >> b) & 1) << (3 * b + 1) | ((z >> b) & 1) << (3 * b + 2);
+    return c;
+  };
+  std::vector<std::uint32_t> expected(points.size());
+  std::iota(expected.begin(), expected.end(), 0u);
+  std::sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint64_t ca = code(points[a]), cb = code(points[b]);
+    if (ca != cb) return ca < cb;
+    const Vec3& p = points[a];
+    const Vec3& q = points[b];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  });
+  CHECK(order == expected);
+}

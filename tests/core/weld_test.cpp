@@ -1,5 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <map>
+#include <random>
+#include <tuple>
+
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
@@ -102,4 +106,27 @@ TEST_CASE("remapping keeps an out-of-range index out of range for the builder") 
   const auto out = remap_triangles(tris, map);
   CHECK(out[0][0] == 0);
   CHECK(out[0][2] == VertexId::kInvalidValue);
+}
+
+TEST_CASE("exact welding numbers vertices as a brute-force std::map weld does") {
+  // Many repeats (with -0.0 and +0.0 mixed) in random order: the numbering must be the order
+  // of first occurrence and the representative the smallest input index.
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> pick(-30, 30);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 50000; ++i) {
+    const int x = pick(rng);
+    points.emplace_back(x == 0 && i % 2 ? -0.0 : 0.25 * x, 0.5 * pick(rng) / 8, 0.0);
+  }
+  const WeldResult weld = weld_vertices(points, {}).value();
+  std::map<std::tuple<double, double, double>, std::uint32_t> seen;
+  std::vector<std::uint32_t> expected_welded_to_input;
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    const auto key = std::make_tuple(points[i].x() + 0.0, points[i].y() + 0.0, points[i].z() + 0.0);
+    const auto [it, inserted] = seen.try_emplace(key, static_cast<std::uint32_t>(seen.size()));
+    if (inserted) expected_welded_to_input.push_back(i);
+    REQUIRE(weld.input_to_welded[i] == it->second);
+  }
+  CHECK(weld.welded_to_input == expected_welded_to_input);
+  CHECK(weld.positions.size() == seen.size());
 }
