@@ -20,27 +20,35 @@ Topology compute_topology(const HalfedgeMesh& mesh) {
   topo.face_component.assign(mesh.num_faces(), kNone);
   topo.vertex_component.assign(mesh.num_vertices(), kNone);
 
-  // Flood fill over faces through interior edges.
+  // Flood fill over faces through interior edges. Edges are counted on the way (a boundary
+  // edge from its one face, an interior edge from its lower half-edge) rather than in a pass
+  // of their own: a second random walk over face_component costs as much as the fill.
   std::vector<FaceId> stack;
   for (std::size_t seed = 0; seed < mesh.num_faces(); ++seed) {
     if (topo.face_component[FaceId(seed)] != kNone) continue;
     const auto c = static_cast<std::uint32_t>(topo.components.size());
-    topo.components.emplace_back();
+    std::size_t faces = 0;
+    std::size_t edges = 0;
     topo.face_component[FaceId(seed)] = c;
     stack.push_back(FaceId(seed));
     while (!stack.empty()) {
       const FaceId f = stack.back();
       stack.pop_back();
-      ++topo.components[c].faces;
+      ++faces;
       HalfedgeId h = mesh.face_halfedge(f);
       for (int i = 0; i < 3; ++i, h = mesh.next(h)) {
-        const FaceId g = mesh.face(HalfedgeMesh::twin(h));
+        const HalfedgeId t = HalfedgeMesh::twin(h);
+        const FaceId g = mesh.face(t);
+        edges += !g.valid() || h.value() < t.value();
         if (g.valid() && topo.face_component[g] == kNone) {
           topo.face_component[g] = c;
           stack.push_back(g);
         }
       }
     }
+    topo.components.emplace_back();
+    topo.components[c].faces = faces;
+    topo.components[c].edges = edges;
   }
   for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
     const HalfedgeId h = mesh.vertex_halfedge(VertexId(v));
@@ -49,11 +57,6 @@ Topology compute_topology(const HalfedgeMesh& mesh) {
     const std::uint32_t c = topo.face_component[f];
     topo.vertex_component[VertexId(v)] = c;
     ++topo.components[c].vertices;
-  }
-  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
-    const FaceId f = mesh.face(h).valid() ? mesh.face(h) : mesh.face(HalfedgeMesh::twin(h));
-    ++topo.components[topo.face_component[f]].edges;
   }
 
   std::vector<std::uint8_t> visited(mesh.num_halfedges(), 0);
