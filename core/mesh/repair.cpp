@@ -4,6 +4,7 @@
 #include <numeric>
 #include <tuple>
 
+#include "core/mesh/split_pinched.h"
 #include "core/seam/tree_util.h"
 
 namespace seam::core {
@@ -78,32 +79,12 @@ std::vector<std::uint32_t> split_fans(Work& w) {
       fans.unite(corner_at(w.triangles, uses[i].corner, v), corner_at(w.triangles, uses[i + 1].corner, v));
     }
   });
-  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> corners;  // (vertex, fan root, corner)
-  corners.reserve(3 * nf);
+  std::vector<std::uint32_t> roots(3 * nf, kNoFan);
   for (std::uint32_t t = 0; t < nf; ++t) {
     if (!in_range(w.triangles[t], w.positions.size())) continue;
-    for (std::uint32_t k = 0; k < 3; ++k) corners.emplace_back(w.triangles[t][k], fans.find(3 * t + k), 3 * t + k);
+    for (std::uint32_t k = 0; k < 3; ++k) roots[3 * t + k] = fans.find(3 * t + k);
   }
-  std::sort(corners.begin(), corners.end());
-  std::vector<std::uint32_t> split;
-  for (std::size_t i = 0; i < corners.size();) {
-    const std::uint32_t v = std::get<0>(corners[i]);
-    const std::uint32_t first_fan = std::get<1>(corners[i]);
-    std::uint32_t fan = first_fan;
-    std::uint32_t copy = v;
-    for (; i < corners.size() && std::get<0>(corners[i]) == v; ++i) {
-      const auto [vertex, root, corner] = corners[i];
-      if (root != fan) {
-        fan = root;
-        copy = static_cast<std::uint32_t>(w.positions.size());
-        w.positions.push_back(w.positions[v]);
-        w.source.push_back(w.source[v]);
-      }
-      if (fan != first_fan) w.triangles[corner / 3][corner % 3] = copy;
-    }
-    if (copy != v) split.push_back(v);
-  }
-  return split;
+  return split_corner_fans(w.positions, w.source, w.triangles, roots);
 }
 
 // Gives face f three vertices of its own.

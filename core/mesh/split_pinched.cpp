@@ -48,35 +48,43 @@ PinchSplit split_pinched_vertices(std::span<const Vec3> positions, std::span<con
     fans.unite(uses[i].corner_high, uses[i - 1].corner_high);
   }
 
-  // Per vertex, its corners grouped by fan (the root is the fan's lowest corner).
-  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> corners;  // (vertex, fan root, corner)
-  corners.reserve(3 * nf);
+  std::vector<std::uint32_t> roots(3 * nf, kNoFan);
   for (std::uint32_t t = 0; t < nf; ++t) {
     if (!valid(triangles[t])) continue;
-    for (std::uint32_t k = 0; k < 3; ++k) corners.emplace_back(triangles[t][k], fans.find(3 * t + k), 3 * t + k);
+    for (std::uint32_t k = 0; k < 3; ++k) roots[3 * t + k] = fans.find(3 * t + k);
+  }
+  out.pinched_vertices = split_corner_fans(out.positions, out.source, out.triangles, roots).size();
+  return out;
+}
+
+std::vector<std::uint32_t> split_corner_fans(std::vector<Vec3>& positions, std::vector<std::uint32_t>& source,
+                                             std::vector<Triangle>& triangles, std::span<const std::uint32_t> fan_root) {
+  // Per vertex, its corners grouped by fan (the root is the fan's lowest corner).
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> corners;  // (vertex, fan root, corner)
+  corners.reserve(fan_root.size());
+  for (std::uint32_t c = 0; c < fan_root.size(); ++c) {
+    if (fan_root[c] != kNoFan) corners.emplace_back(triangles[c / 3][c % 3], fan_root[c], c);
   }
   std::sort(corners.begin(), corners.end());
-  std::size_t i = 0;
-  while (i < corners.size()) {
+  std::vector<std::uint32_t> split;
+  for (std::size_t i = 0; i < corners.size();) {
     const std::uint32_t v = std::get<0>(corners[i]);
     const std::uint32_t first_fan = std::get<1>(corners[i]);
-    bool pinched = false;
     std::uint32_t fan = first_fan;
     std::uint32_t copy = v;
     for (; i < corners.size() && std::get<0>(corners[i]) == v; ++i) {
       const auto [vertex, root, corner] = corners[i];
       if (root != fan) {
         fan = root;
-        copy = static_cast<std::uint32_t>(out.positions.size());
-        out.positions.push_back(positions[v]);
-        out.source.push_back(v);
-        pinched = true;
+        copy = static_cast<std::uint32_t>(positions.size());
+        positions.push_back(positions[v]);
+        source.push_back(source[v]);
       }
-      if (fan != first_fan) out.triangles[corner / 3][corner % 3] = copy;
+      if (fan != first_fan) triangles[corner / 3][corner % 3] = copy;
     }
-    if (pinched) ++out.pinched_vertices;
+    if (copy != v) split.push_back(v);
   }
-  return out;
+  return split;
 }
 
 }  // namespace seam::core

@@ -31,4 +31,17 @@ struct PinchSplit {
 /// Complexity: O(F log F).
 PinchSplit split_pinched_vertices(std::span<const Vec3> positions, std::span<const Triangle> triangles);
 
+/// No fan: the corner's triangle is skipped (split_corner_fans).
+inline constexpr std::uint32_t kNoFan = 0xffffffffu;
+
+/// The splitting step shared by split_pinched_vertices and repair_mesh: `fan_root[c]` names
+/// the fan of corner c = 3t + k (kNoFan: leave the corner). Per vertex, the fan holding its
+/// lowest corner keeps it; every other fan gets a copy appended to `positions` and `source`
+/// (source[copy] = source[v]), numbered by vertex and then by the fan's lowest corner, and
+/// its corners move to the copy. Returns the vertices that were split, in increasing order.
+/// Preconditions: fan_root.size() == 3 * triangles.size(); corners with a fan index vertices
+/// < positions.size() == source.size(). Complexity: O(F log F).
+std::vector<std::uint32_t> split_corner_fans(std::vector<Vec3>& positions, std::vector<std::uint32_t>& source,
+                                             std::vector<Triangle>& triangles, std::span<const std::uint32_t> fan_root);
+
 }  // namespace seam::core
