@@ -88,11 +88,27 @@ class BinBuilder {
   static void add_min_max(const AttributeArray& a, json& acc) {
     const auto k = static_cast<std::size_t>(a.components);
     std::vector<double> lo(k, std::numeric_limits<double>::infinity()), hi(k, -std::numeric_limits<double>::infinity());
-    for (std::size_t i = 0; i < a.count; ++i) {
-      for (std::size_t c = 0; c < k; ++c) {
-        const double v = component(a, i * k + c);
-        lo[c] = std::min(lo[c], v);
-        hi[c] = std::max(hi[c], v);
+    if (a.component_type == 5126 && k == 3) {
+      // Float VEC3 (every POSITION we write): the same std::min/std::max on the same doubles,
+      // read as a typed array instead of through component()'s switch per value.
+      double l[3] = {lo[0], lo[1], lo[2]}, h[3] = {hi[0], hi[1], hi[2]};
+      for (std::size_t i = 0; i < a.count; ++i) {
+        float v[3];
+        std::memcpy(v, a.data.data() + 12 * i, 12);
+        for (std::size_t c = 0; c < 3; ++c) {
+          l[c] = std::min(l[c], static_cast<double>(v[c]));
+          h[c] = std::max(h[c], static_cast<double>(v[c]));
+        }
+      }
+      lo.assign(l, l + 3);
+      hi.assign(h, h + 3);
+    } else {
+      for (std::size_t i = 0; i < a.count; ++i) {
+        for (std::size_t c = 0; c < k; ++c) {
+          const double v = component(a, i * k + c);
+          lo[c] = std::min(lo[c], v);
+          hi[c] = std::max(hi[c], v);
+        }
       }
     }
     json jlo = json::array(), jhi = json::array();
@@ -113,13 +129,36 @@ class BinBuilder {
   std::vector<std::uint8_t>& bin_;
 };
 
+// out[i] = in[source[i]] for elements of a compile-time size: the copy becomes one or two
+// moves instead of a call to memcpy per element.
+template <std::size_t kElem>
+void gather_fixed(const std::uint8_t* in, const std::vector<std::uint32_t>& source, std::uint8_t* out) {
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    std::memcpy(out + i * kElem, in + static_cast<std::size_t>(source[i]) * kElem, kElem);
+  }
+}
+
 AttributeArray gather(const AttributeArray& a, const std::vector<std::uint32_t>& source) {
-  AttributeArray out = a;
+  AttributeArray out;  // a's description, not its data: copying the input array is wasted
+  out.name = a.name;
+  out.component_type = a.component_type;
+  out.components = a.components;
+  out.type = a.type;
+  out.normalized = a.normalized;
   const std::size_t elem = a.element_size();
   out.count = source.size();
   out.data.resize(source.size() * elem);
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    std::memcpy(out.data.data() + i * elem, a.data.data() + static_cast<std::size_t>(source[i]) * elem, elem);
+  const std::uint8_t* in = a.data.data();
+  std::uint8_t* dst = out.data.data();
+  switch (elem) {
+    case 4: gather_fixed<4>(in, source, dst); break;
+    case 8: gather_fixed<8>(in, source, dst); break;
+    case 12: gather_fixed<12>(in, source, dst); break;
+    case 16: gather_fixed<16>(in, source, dst); break;
+    default:
+      for (std::size_t i = 0; i < source.size(); ++i) {
+        std::memcpy(dst + i * elem, in + static_cast<std::size_t>(source[i]) * elem, elem);
+      }
   }
   return out;
 }
@@ -134,17 +173,19 @@ AttributeArray index_array(const std::vector<core::Triangle>& triangles, std::si
   const bool small = vertices <= 65535;
   out.component_type = small ? 5123 : 5125;
   out.data.resize(out.count * (small ? 2 : 4));
-  std::size_t k = 0;
+  if (!small) {
+    // std::array<uint32_t, 3> is three packed host-order uint32s, as GLB stores them (GLB is
+    // little-endian, and so is every host this builds for).
+    static_assert(sizeof(core::Triangle) == 12);
+    if (!triangles.empty()) std::memcpy(out.data.data(), triangles.data(), out.data.size());
+    return out;
+  }
+  std::uint8_t* dst = out.data.data();
   for (const auto& t : triangles) {
-    for (auto v : t) {
-      if (small) {
-        const auto s = static_cast<std::uint16_t>(v);
-        std::memcpy(out.data.data() + 2 * k, &s, 2);
-      } else {
-        std::memcpy(out.data.data() + 4 * k, &v, 4);
-      }
-      ++k;
-    }
+    const std::uint16_t narrow[3] = {static_cast<std::uint16_t>(t[0]), static_cast<std::uint16_t>(t[1]),
+                                     static_cast<std::uint16_t>(t[2])};
+    std::memcpy(dst, narrow, 6);
+    dst += 6;
   }
   return out;
 }
@@ -295,6 +336,23 @@ void collect_references(const json& prim, std::vector<std::size_t>& accessors, s
   }
 }
 
+// An upper bound of what replace_primitive appends to the BIN chunk without Draco (vertex
+// attributes padded to 4 bytes, u32 indices, the new UVs, a 4-byte alignment per view), so the
+// chunk grows in place: each reallocation of a vector of tens of MB copies it into fresh pages.
+std::size_t appended_bytes(std::span<const ReplacedPrimitive> replaced) {
+  std::size_t bytes = 0;
+  for (const ReplacedPrimitive& r : replaced) {
+    std::size_t per_vertex = 8;  // the new TEXCOORD
+    std::size_t views = 2;
+    for (const auto& a : r.data->attributes) per_vertex += (a.element_size() + 3) / 4 * 4, ++views;
+    for (const auto& target : r.data->targets) {
+      for (const auto& a : target) per_vertex += (a.element_size() + 3) / 4 * 4, ++views;
+    }
+    bytes += r.cut->source_vertex.size() * per_vertex + 12 * r.cut->triangles.size() + 4 * views;
+  }
+  return bytes;
+}
+
 // Replaces one primitive's JSON by the cut's accessors; extras.seam carries the seam.
 ApiResult<WrittenPrimitive> replace_primitive(BinBuilder& builder, json& prim, const ReplacedPrimitive& r) {
   const PrimitiveData& data = *r.data;
@@ -342,6 +400,7 @@ ApiResult<WrittenPrimitive> replace_primitive(BinBuilder& builder, json& prim, c
 ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::span<const ReplacedPrimitive> replaced) {
   json root = doc.json;
   std::vector<std::uint8_t> bin = merge_buffers(doc, root);
+  bin.reserve(bin.size() + appended_bytes(replaced));
   json merged = doc.buffers.empty() || !root["buffers"][0].is_object() ? json::object() : root["buffers"][0];
   merged.erase("uri");
   BinBuilder builder(root, bin);
