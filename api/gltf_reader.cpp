@@ -537,8 +537,17 @@ ApiResult<GltfDocument> parse_asset(std::string_view bytes, AssetKind kind, cons
   return malformed("unknown asset kind");
 }
 
-ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t mesh_index, std::uint32_t primitive_index,
-                                        const ReadLimits& limits) {
+namespace {
+
+using ApiStatus = ApiResult<core::Ok>;
+
+// The primitive's JSON and its path for messages ("meshes[0].primitives[1]").
+struct PrimitiveRef {
+  const json* prim = nullptr;
+  std::string where;
+};
+
+ApiResult<PrimitiveRef> locate_primitive(const GltfDocument& doc, std::uint32_t mesh_index, std::uint32_t primitive_index) {
   const json* meshes = array_member(doc.json, "meshes");
   if (meshes == nullptr || mesh_index >= meshes->size()) {
     return make_api_error(ApiErrorCode::kNoTrianglePrimitive,
@@ -558,78 +567,99 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
                           {{"mesh", mesh_index}, {"primitive", primitive_index}, {"primitives", prims->size()}});
   }
   const json& prim = (*prims)[primitive_index];
-  const std::string pw = mw + ".primitives[" + std::to_string(primitive_index) + "]";
-  if (!prim.is_object()) return malformed(pw + " is not an object");
-  PrimitiveData out;
+  PrimitiveRef out{&prim, mw + ".primitives[" + std::to_string(primitive_index) + "]"};
+  if (!prim.is_object()) return malformed(out.where + " is not an object");
+  return out;
+}
+
+// The mode (a surface one), and the attributes object with POSITION.
+ApiResult<int> surface_mode(const json& prim, const std::string& pw) {
   SEAM_TRY(const auto mode, get_uint(prim, "mode", pw));
-  out.mode = static_cast<int>(mode.value_or(4));
+  const int m = static_cast<int>(mode.value_or(4));
   if (mode && *mode > 6) return malformed(pw + ".mode " + std::to_string(*mode) + " is not a glTF mode");
-  if (out.mode <= 3) {
+  if (m <= 3) {
     static constexpr const char* kNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
     return make_api_error(ApiErrorCode::kUnsupportedPrimitiveMode,
-                          pw + " has mode " + kNames[out.mode] +
+                          pw + " has mode " + kNames[m] +
                               "; a seam needs a triangle surface (TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN)",
-                          {{"mode", out.mode}});
+                          {{"mode", m}});
   }
   const auto attrs = prim.find("attributes");
   if (attrs == prim.end() || !attrs->is_object()) return malformed(pw + ".attributes must be an object");
   if (!attrs->contains("POSITION")) {
     return make_api_error(ApiErrorCode::kNoTrianglePrimitive, pw + " has no POSITION attribute");
   }
+  return m;
+}
 
-  // Draco: decode the extension's bufferView ourselves (tinygltf would not check it).
-  std::optional<DracoMesh> draco_mesh;
-  const json* draco_ext = nullptr;
-  if (const auto exts = prim.find("extensions"); exts != prim.end() && exts->is_object()) {
-    if (const auto d = exts->find("KHR_draco_mesh_compression"); d != exts->end()) {
-      const std::string dw = pw + ".extensions.KHR_draco_mesh_compression";
-      if (!d->is_object()) return malformed(dw + " is not an object");
-      draco_ext = &*d;
-      SEAM_TRY(const std::uint64_t view_index, require_uint(*d, "bufferView", dw));
-      SEAM_TRY(const ViewRange view, view_range(doc, view_index, dw));
-      const auto ea = d->find("attributes");
-      if (ea == d->end() || !ea->is_object()) return malformed(dw + ".attributes must be an object");
-      SEAM_TRY(DracoMesh decoded,
-               decode_draco(std::span(doc.buffers[view.buffer].data() + view.offset, view.length), limits, true));
-      draco_mesh = std::move(decoded);
-      out.draco = true;
+// KHR_draco_mesh_compression: the extension object and its decoded mesh (quantization read),
+// or neither. We decode the extension's bufferView ourselves (tinygltf would not check it).
+struct DracoPart {
+  const json* ext = nullptr;
+  std::optional<DracoMesh> mesh;
+};
+
+ApiResult<DracoPart> read_draco_part(const GltfDocument& doc, const json& prim, const std::string& pw,
+                                     const ReadLimits& limits) {
+  DracoPart out;
+  const auto exts = prim.find("extensions");
+  if (exts == prim.end() || !exts->is_object()) return out;
+  const auto d = exts->find("KHR_draco_mesh_compression");
+  if (d == exts->end()) return out;
+  const std::string dw = pw + ".extensions.KHR_draco_mesh_compression";
+  if (!d->is_object()) return malformed(dw + " is not an object");
+  out.ext = &*d;
+  SEAM_TRY(const std::uint64_t view_index, require_uint(*d, "bufferView", dw));
+  SEAM_TRY(const ViewRange view, view_range(doc, view_index, dw));
+  const auto ea = d->find("attributes");
+  if (ea == d->end() || !ea->is_object()) return malformed(dw + ".attributes must be an object");
+  SEAM_TRY(DracoMesh decoded, decode_draco(std::span(doc.buffers[view.buffer].data() + view.offset, view.length), limits, true));
+  out.mesh = std::move(decoded);
+  return out;
+}
+
+// One attribute from the Draco blob (with its quantization) when the extension names it,
+// else from its accessor.
+ApiStatus read_attribute(const GltfDocument& doc, const DracoPart& draco, const std::string& name, const json& ref,
+                      const std::string& pw, const ReadLimits& limits, PrimitiveData& out) {
+  if (!is_index(ref)) return malformed(pw + ".attributes." + name + " must be an accessor index");
+  const std::uint64_t acc = ref.get<std::uint64_t>();
+  std::optional<std::uint64_t> uid;
+  if (draco.ext != nullptr) {
+    const json& ea = (*draco.ext)["attributes"];
+    if (const auto u = ea.find(name); u != ea.end()) {
+      if (!is_index(*u) || u->get<std::uint64_t>() > 0xffffffffu) {
+        return malformed(pw + ": Draco attribute id for " + name + " must be an unsigned integer");
+      }
+      uid = u->get<std::uint64_t>();
     }
   }
-
-  for (auto it = attrs->begin(); it != attrs->end(); ++it) {
-    if (!is_index(*it)) return malformed(pw + ".attributes." + it.key() + " must be an accessor index");
-    const std::uint64_t acc = it->get<std::uint64_t>();
-    std::optional<std::uint64_t> uid;
-    if (draco_ext != nullptr) {
-      const json& ea = (*draco_ext)["attributes"];
-      if (const auto u = ea.find(it.key()); u != ea.end()) {
-        if (!is_index(*u) || u->get<std::uint64_t>() > 0xffffffffu) {
-          return malformed(pw + ": Draco attribute id for " + it.key() + " must be an unsigned integer");
-        }
-        uid = u->get<std::uint64_t>();
-      }
-    }
-    if (uid) {
-      SEAM_TRY(const AccessorInfo info, check_accessor(doc, acc));
-      if (info.count != draco_mesh->num_points) {
-        return malformed(pw + ".attributes." + it.key() + " declares " + std::to_string(info.count) +
-                         " vertices but the Draco data has " + std::to_string(draco_mesh->num_points));
-      }
-      if (info.components > 4) return malformed(pw + ".attributes." + it.key() + " is a matrix");
-      SEAM_TRY(AttributeArray a, read_draco_attribute(*draco_mesh, static_cast<std::uint32_t>(*uid), info.component_type,
-                                                      info.components, info.normalized, it.key()));
-      a.type = info.type;
-      for (const auto& q : draco_mesh->quantization) {
-        if (q.unique_id != *uid) continue;
-        out.draco_quantization.push_back(q);
-        out.draco_quantization.back().name = it.key();
-      }
-      out.attributes.push_back(std::move(a));
-    } else {
-      SEAM_TRY(AttributeArray a, read_accessor(doc, acc, it.key(), limits));
-      out.attributes.push_back(std::move(a));
-    }
+  if (!uid) {
+    SEAM_TRY(AttributeArray a, read_accessor(doc, acc, name, limits));
+    out.attributes.push_back(std::move(a));
+    return core::Ok{};
   }
+  SEAM_TRY(const AccessorInfo info, check_accessor(doc, acc));
+  if (info.count != draco.mesh->num_points) {
+    return malformed(pw + ".attributes." + name + " declares " + std::to_string(info.count) +
+                     " vertices but the Draco data has " + std::to_string(draco.mesh->num_points));
+  }
+  if (info.components > 4) return malformed(pw + ".attributes." + name + " is a matrix");
+  SEAM_TRY(AttributeArray a, read_draco_attribute(*draco.mesh, static_cast<std::uint32_t>(*uid), info.component_type,
+                                                  info.components, info.normalized, name));
+  a.type = info.type;
+  for (const auto& q : draco.mesh->quantization) {
+    if (q.unique_id != *uid) continue;
+    out.draco_quantization.push_back(q);
+    out.draco_quantization.back().name = name;
+  }
+  out.attributes.push_back(std::move(a));
+  return core::Ok{};
+}
+
+// POSITION as doubles (float32, or normalized/integer under KHR_mesh_quantization), every
+// attribute with POSITION's count, no NaN or infinity.
+ApiStatus read_positions(const std::string& pw, PrimitiveData& out) {
   const auto pos_it = std::find_if(out.attributes.begin(), out.attributes.end(),
                                    [](const AttributeArray& a) { return a.name == "POSITION"; });
   const AttributeArray& pos = *pos_it;
@@ -641,7 +671,6 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
                        std::to_string(n));
     }
   }
-  // Positions: float32, or normalized/integer under KHR_mesh_quantization.
   out.mesh.positions.resize(n);
   std::vector<std::uint32_t> bad;
   const std::size_t cs = pos.component_size();
@@ -656,81 +685,112 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
                           pw + ": POSITION of vertex " + std::to_string(bad.front()) + " is NaN or infinite",
                           {{"vertices", bad}});
   }
+  return core::Ok{};
+}
 
-  // Morph targets (uncompressed even in Draco primitives, per KHR_draco_mesh_compression).
-  if (const auto targets = prim.find("targets"); targets != prim.end()) {
-    if (!targets->is_array()) return malformed(pw + ".targets must be an array");
-    for (std::size_t t = 0; t < targets->size(); ++t) {
-      const json& target = (*targets)[t];
-      if (!target.is_object()) return malformed(pw + ".targets[" + std::to_string(t) + "] is not an object");
-      std::vector<AttributeArray> arrays;
-      for (auto it = target.begin(); it != target.end(); ++it) {
-        if (!is_index(*it)) return malformed(pw + ".targets: " + it.key() + " must be an accessor index");
-        SEAM_TRY(AttributeArray a, read_accessor(doc, it->get<std::uint64_t>(), it.key(), limits));
-        if (a.count != n) return malformed(pw + ".targets[" + std::to_string(t) + "]." + it.key() + " has the wrong count");
-        arrays.push_back(std::move(a));
-      }
-      out.targets.push_back(std::move(arrays));
+// Morph targets (uncompressed even in Draco primitives, per KHR_draco_mesh_compression).
+ApiStatus read_targets(const GltfDocument& doc, const json& prim, const std::string& pw, const ReadLimits& limits,
+                    PrimitiveData& out) {
+  const auto targets = prim.find("targets");
+  if (targets == prim.end()) return core::Ok{};
+  if (!targets->is_array()) return malformed(pw + ".targets must be an array");
+  const std::size_t n = out.mesh.positions.size();
+  for (std::size_t t = 0; t < targets->size(); ++t) {
+    const json& target = (*targets)[t];
+    if (!target.is_object()) return malformed(pw + ".targets[" + std::to_string(t) + "] is not an object");
+    std::vector<AttributeArray> arrays;
+    for (auto it = target.begin(); it != target.end(); ++it) {
+      if (!is_index(*it)) return malformed(pw + ".targets: " + it.key() + " must be an accessor index");
+      SEAM_TRY(AttributeArray a, read_accessor(doc, it->get<std::uint64_t>(), it.key(), limits));
+      if (a.count != n) return malformed(pw + ".targets[" + std::to_string(t) + "]." + it.key() + " has the wrong count");
+      arrays.push_back(std::move(a));
     }
+    out.targets.push_back(std::move(arrays));
   }
+  return core::Ok{};
+}
 
-  // Indices: Draco faces, an index accessor, or implicit 0..n-1.
+// The index list: an index accessor (u8/u16/u32), or implicit 0..n-1; every index < n.
+ApiResult<std::vector<std::uint32_t>> read_indices(const GltfDocument& doc, const json& prim, const std::string& pw,
+                                                   std::size_t n, const ReadLimits& limits) {
   std::vector<std::uint32_t> indices;
-  if (draco_mesh) {
-    if (out.mode != 4) return malformed(pw + ": a Draco primitive must have mode TRIANGLES");
-    out.mesh.triangles = draco_mesh->triangles;
+  SEAM_TRY(const auto idx, get_uint(prim, "indices", pw));
+  if (idx) {
+    SEAM_TRY(const AttributeArray ia, read_accessor(doc, *idx, "indices", limits));
+    if (ia.components != 1 || ia.normalized ||
+        (ia.component_type != 5121 && ia.component_type != 5123 && ia.component_type != 5125)) {
+      return malformed(pw + ".indices must be an unsigned SCALAR accessor (u8, u16 or u32)");
+    }
+    indices.resize(ia.count);
+    for (std::size_t i = 0; i < ia.count; ++i) indices[i] = read_index(ia.data.data() + i * ia.component_size(), ia.component_type);
   } else {
-    SEAM_TRY(const auto idx, get_uint(prim, "indices", pw));
-    if (idx) {
-      SEAM_TRY(const AttributeArray ia, read_accessor(doc, *idx, "indices", limits));
-      if (ia.components != 1 || ia.normalized ||
-          (ia.component_type != 5121 && ia.component_type != 5123 && ia.component_type != 5125)) {
-        return malformed(pw + ".indices must be an unsigned SCALAR accessor (u8, u16 or u32)");
-      }
-      indices.resize(ia.count);
-      for (std::size_t i = 0; i < ia.count; ++i) indices[i] = read_index(ia.data.data() + i * ia.component_size(), ia.component_type);
-    } else {
-      indices.resize(n);
-      for (std::size_t i = 0; i < n; ++i) indices[i] = static_cast<std::uint32_t>(i);
+    indices.resize(n);
+    for (std::size_t i = 0; i < n; ++i) indices[i] = static_cast<std::uint32_t>(i);
+  }
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (indices[i] < n) continue;
+    return make_api_error(ApiErrorCode::kIndexOutOfRange,
+                          pw + ": index " + std::to_string(i) + " is " + std::to_string(indices[i]) +
+                              " but the primitive has " + std::to_string(n) + " vertices",
+                          {{"index", i}, {"value", indices[i]}, {"vertices", n}});
+  }
+  return indices;
+}
+
+// Triangles from TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN indices, winding kept.
+ApiResult<std::vector<core::Triangle>> assemble_triangles(const std::vector<std::uint32_t>& indices, int mode,
+                                                          const std::string& pw, const ReadLimits& limits) {
+  const std::size_t m = indices.size();
+  const std::size_t faces = mode == 4 ? m / 3 : (m >= 3 ? m - 2 : 0);
+  if (faces > limits.max_faces) {
+    return make_api_error(ApiErrorCode::kMeshTooLarge, pw + " has " + std::to_string(faces) +
+                                                           " triangles, more than the limit of " +
+                                                           std::to_string(limits.max_faces));
+  }
+  std::vector<core::Triangle> out;
+  out.reserve(faces);
+  if (mode == 4) {
+    if (m % 3 != 0) return malformed(pw + ": TRIANGLES with " + std::to_string(m) + " indices (not a multiple of 3)");
+    for (std::size_t i = 0; i + 2 < m; i += 3) out.push_back({indices[i], indices[i + 1], indices[i + 2]});
+    return out;
+  }
+  for (std::size_t i = 0; i + 2 < m; ++i) {
+    core::Triangle t;
+    if (mode == 5) {  // strip: odd triangles are flipped to keep the winding
+      t = (i % 2 == 0) ? core::Triangle{indices[i], indices[i + 1], indices[i + 2]}
+                       : core::Triangle{indices[i + 1], indices[i], indices[i + 2]};
+    } else {  // fan
+      t = {indices[0], indices[i + 1], indices[i + 2]};
     }
-    std::size_t bad_index = indices.size();
-    for (std::size_t i = 0; i < indices.size(); ++i) {
-      if (indices[i] >= n) {
-        bad_index = i;
-        break;
-      }
-    }
-    if (bad_index < indices.size()) {
-      return make_api_error(ApiErrorCode::kIndexOutOfRange,
-                            pw + ": index " + std::to_string(bad_index) + " is " + std::to_string(indices[bad_index]) +
-                                " but the primitive has " + std::to_string(n) + " vertices",
-                            {{"index", bad_index}, {"value", indices[bad_index]}, {"vertices", n}});
-    }
-    const std::size_t m = indices.size();
-    const std::size_t faces = out.mode == 4 ? m / 3 : (m >= 3 ? m - 2 : 0);
-    if (faces > limits.max_faces) {
-      return make_api_error(ApiErrorCode::kMeshTooLarge, pw + " has " + std::to_string(faces) +
-                                                             " triangles, more than the limit of " +
-                                                             std::to_string(limits.max_faces));
-    }
-    out.mesh.triangles.reserve(faces);
-    if (out.mode == 4) {
-      if (m % 3 != 0) return malformed(pw + ": TRIANGLES with " + std::to_string(m) + " indices (not a multiple of 3)");
-      for (std::size_t i = 0; i + 2 < m; i += 3) out.mesh.triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
-    } else {
-      for (std::size_t i = 0; i + 2 < m; ++i) {
-        core::Triangle t;
-        if (out.mode == 5) {  // strip: odd triangles are flipped to keep the winding
-          t = (i % 2 == 0) ? core::Triangle{indices[i], indices[i + 1], indices[i + 2]}
-                           : core::Triangle{indices[i + 1], indices[i], indices[i + 2]};
-        } else {  // fan
-          t = {indices[0], indices[i + 1], indices[i + 2]};
-        }
-        // Strips use repeated indices as restarts: those triangles are not surface.
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
-        out.mesh.triangles.push_back(t);
-      }
-    }
+    // Strips use repeated indices as restarts: those triangles are not surface.
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+    out.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace
+
+ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t mesh_index, std::uint32_t primitive_index,
+                                        const ReadLimits& limits) {
+  SEAM_TRY(const PrimitiveRef ref, locate_primitive(doc, mesh_index, primitive_index));
+  const json& prim = *ref.prim;
+  const std::string& pw = ref.where;
+  PrimitiveData out;
+  SEAM_TRY(out.mode, surface_mode(prim, pw));
+  SEAM_TRY(const DracoPart draco, read_draco_part(doc, prim, pw, limits));
+  out.draco = draco.mesh.has_value();
+  for (const auto& [name, index] : prim.at("attributes").items()) {
+    if (auto r = read_attribute(doc, draco, name, index, pw, limits, out); !r.ok()) return r.take_error();
+  }
+  if (auto r = read_positions(pw, out); !r.ok()) return r.take_error();
+  if (auto r = read_targets(doc, prim, pw, limits, out); !r.ok()) return r.take_error();
+  if (draco.mesh) {
+    if (out.mode != 4) return malformed(pw + ": a Draco primitive must have mode TRIANGLES");
+    out.mesh.triangles = draco.mesh->triangles;
+  } else {
+    SEAM_TRY(const std::vector<std::uint32_t> indices, read_indices(doc, prim, pw, out.mesh.positions.size(), limits));
+    SEAM_TRY(out.mesh.triangles, assemble_triangles(indices, out.mode, pw, limits));
   }
   if (out.mesh.triangles.size() > limits.max_faces) {
     return make_api_error(ApiErrorCode::kMeshTooLarge, pw + " has more triangles than the limit of " +
