@@ -81,27 +81,6 @@ bool accepts_svg(std::string_view accept) {
   return false;
 }
 
-// output "svg" arrives with the params of contract v2 (OutputFormat::kSvg and
-// PipelineOutput::svg); until the pipeline has them, Accept: image/svg+xml changes nothing
-// and no SVG is sent. Templates, so that the check compiles either way.
-template <class Format = api::OutputFormat>
-bool select_svg(Format& output) {
-  if constexpr (requires { Format::kSvg; }) {
-    output = Format::kSvg;
-    return true;
-  }
-  return false;
-}
-
-// The SVG to send: the pipeline's, when the request asked for output "svg".
-template <class Output = api::PipelineOutput, class Format = api::OutputFormat>
-const std::string* svg_of([[maybe_unused]] const Output& output, [[maybe_unused]] Format format) {
-  if constexpr (requires { output.svg; Format::kSvg; }) {
-    if (format == Format::kSvg) return &output.svg;
-  }
-  return nullptr;
-}
-
 double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
@@ -296,7 +275,7 @@ struct Server::Impl {
     }
     const auto accept = req.get_header_value("Accept");
     if (accepts_glb(accept)) request.params.output = api::OutputFormat::kGlb;
-    else if (accepts_svg(accept)) select_svg(request.params.output);
+    else if (accepts_svg(accept)) request.params.output = api::OutputFormat::kSvg;
     if (draining) {
       res.set_header("Retry-After", std::to_string(config.retry_after_s));
       return send_error(req, res, make_api_error(ApiErrorCode::kQueueFull, "the server is shutting down; retry on another replica"));
@@ -374,9 +353,9 @@ struct Server::Impl {
       return send_error(req, res, error);
     }
     auto& output = result.value();
-    if (const std::string* svg = svg_of(output, state->params.output)) {
+    if (state->params.output == api::OutputFormat::kSvg) {
       res.status = 200;
-      res.set_content(*svg, kSvgType);
+      res.set_content(output.svg, kSvgType);
     } else if (state->params.output == api::OutputFormat::kGlb) {
       res.status = 200;
       res.body = std::move(output.glb);
