@@ -241,8 +241,13 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
   }
 
   // A vertex whose rotation does not reach all of its outgoing half-edges has several
-  // closed fans (a bowtie between interior fans has no boundary to detect it above).
-  {
+  // closed fans (a bowtie between interior fans has no boundary to detect it above). A
+  // rotation is a cycle of distinct outgoing half-edges, so it never reaches more than all of
+  // them: the rotations together reach all nh half-edges exactly when each one does, and the
+  // per-vertex count (another pass over tail_) is only needed to name the offenders.
+  std::size_t reached = 0;
+  for (std::size_t v = 0; v < nv; ++v) reached += mesh.valence(VertexId(v));
+  if (reached != nh) {
     std::vector<std::uint32_t> outgoing(nv, 0);
     for (std::size_t h = 0; h < nh; ++h) ++outgoing[mesh.tail_[h].index()];
     for (std::size_t v = 0; v < nv; ++v) {
