@@ -384,8 +384,10 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
 }
 
 Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                                  std::span<const VertexId> terminals, const CancelToken& cancel) {
+                                                  std::span<const VertexId> terminals, const CancelToken& cancel,
+                                                  std::size_t max_settled) {
   if (terminals.size() < 2) return make_error(ErrorCode::kInvalidArgument, "needs at least two terminals");
+  std::size_t work = 0;
   PathSearch search(graph);
   std::vector<std::uint8_t> in_tree(mesh.num_vertices(), 0), is_terminal(mesh.num_vertices(), 0);
   for (VertexId t : terminals) is_terminal[t.index()] = 1;
@@ -408,7 +410,12 @@ Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, cons
     for (VertexId v : tree_vertices) {
       if (edges.empty() || !is_terminal[v.index()]) search.add_source(v);
     }
-    if (auto st = search.run_to_nearest(targets, cancel); !st.ok()) return st.take_error();
+    if (work >= max_settled) return std::vector<EdgeId>{};
+    if (auto st = search.run_to_nearest(targets, cancel, PathSearch::kUnreached, max_settled - work); !st.ok()) {
+      return st.take_error();
+    }
+    work += search.settled().size();
+    if (work >= max_settled) return std::vector<EdgeId>{};  // out of budget (or exactly at it)
     const VertexId reached = search.settled().empty() ? VertexId() : search.settled().back();
     if (!reached.valid() || !is_terminal[reached.index()] || in_tree[reached.index()]) {
       return make_error(ErrorCode::kInvalidArgument, "a terminal cannot be joined as a leaf");

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -30,9 +31,9 @@ struct ImproveOptions {
   /// refinement on 80k faces.
   double max_work = 8.0;
   /// The same budget as an absolute number of settled vertices (0: unbounded); the smaller
-  /// one applies. 2e6 (about half a second): at 1.25M faces and 16 extrema, 8 x V made the
-  /// moves cost 4x the paper's whole seam stage.
-  std::size_t max_settled = 2000000;
+  /// one applies, so it binds above 125k vertices. 1e6 (a few tenths of a second): at 1.25M
+  /// faces and 16 extrema, 8 x V made the moves cost 4x the paper's whole seam stage.
+  std::size_t max_settled = 1000000;
 };
 
 struct ImproveStats {
@@ -73,10 +74,12 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
 /// the full-component constraint. From terminals[0], repeatedly joins the nearest terminal
 /// not yet in the tree by a shortest path from a non-terminal tree vertex (from the first
 /// terminal itself for the first path) that passes through no terminal.
+/// Gives up, returning no edges, once its searches have settled `max_settled` vertices.
 /// Errors: kInvalidArgument (fewer than two terminals, or a terminal that cannot be joined
 /// that way, e.g. two adjacent terminals first), kCancelled. O(k E log V).
 Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                                   std::span<const VertexId> terminals,
-                                                  const CancelToken& cancel = CancelToken::none());
+                                                  const CancelToken& cancel = CancelToken::none(),
+                                                  std::size_t max_settled = SIZE_MAX);
 
 }  // namespace seam::core
