@@ -53,10 +53,33 @@ void job_weld_stage(const char* name, const core::IndexedMesh& in, int runs) {
   const double build_ms = bench::best_ms(runs, [&] { mesh = core::build_halfedge_mesh(split.positions, split.triangles).value(); });
   core::Topology topo;
   const double topo_ms = bench::best_ms(runs, [&] { topo = core::compute_topology(mesh); });
+  // repair_mesh groups edge uses with a std::sort of (key, corner) records, four times per
+  // call; the builder's kernel (core::sorted_edge_uses) gives the same order.
+  std::vector<core::EdgeCorner> uses;
+  const double std_sort_ms = bench::best_ms(runs, [&] {
+    uses.clear();
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint64_t a = tris[t][k], b = tris[t][(k + 1) % 3];
+        uses.push_back({(std::min(a, b) << 32) | std::max(a, b), 3 * t + k});
+      }
+    }
+    std::sort(uses.begin(), uses.end(), [](const core::EdgeCorner& x, const core::EdgeCorner& y) {
+      return x.key != y.key ? x.key < y.key : x.corner < y.corner;
+    });
+  });
+  std::vector<core::EdgeCorner> kernel;
+  const double kernel_ms = bench::best_ms(runs, [&] { kernel = core::sorted_edge_uses(tris, positions.size()); });
+  const bool same = kernel.size() == uses.size() &&
+                    std::equal(kernel.begin(), kernel.end(), uses.begin(), [](const auto& x, const auto& y) {
+                      return x.key == y.key && x.corner == y.corner;
+                    });
   const double mine = weld_ms + order_ms + build_ms + topo_ms;
   const double all = mine + canon_ms + pinch_ms;
   std::printf("%-14s %9zu %8.1f %8.1f %8.1f %8.1f %8.1f %8.1f %9.1f %6.2f %9.1f %6.2f\n", name, in.triangles.size(),
               weld_ms, order_ms, canon_ms, pinch_ms, build_ms, topo_ms, mine, mine / 300.0, all, all / 300.0);
+  std::printf("  edge uses (repair_mesh's grouping, %zu records): std::sort %.1f ms, sorted_edge_uses %.1f ms (%s)\n",
+              uses.size(), std_sort_ms, kernel_ms, same ? "same order" : "ORDER DIFFERS");
   std::fflush(stdout);
 }
 

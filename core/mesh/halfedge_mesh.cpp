@@ -21,6 +21,58 @@ struct CornerEdge {
   std::uint32_t corner;  // 3 * face + i, the directed edge t[i] -> t[i+1]
 };
 
+// The corner edges bucketed by smaller vertex: bucket v is corners[bucket_start[v],
+// bucket_start[v + 1]), sorted by (high, corner).
+struct CornerGroups {
+  std::vector<std::uint32_t> bucket_start;  // num_vertices + 1 entries
+  std::vector<CornerEdge> corners;
+};
+
+// The kernel behind build_halfedge_mesh and sorted_edge_uses: a counting sort by the smaller
+// vertex (linear, cache-friendly), then a tiny insertion sort by the larger vertex inside each
+// bucket. Both passes are stable in the corner index, so the order depends only on the input
+// order. Triangles with an index >= nv are left out.
+CornerGroups group_corner_edges(std::span<const Triangle> triangles, std::size_t nv) {
+  const std::size_t nf = triangles.size();
+  auto in_range = [nv](const Triangle& t) { return t[0] < nv && t[1] < nv && t[2] < nv; };
+  CornerGroups g;
+  std::vector<std::uint32_t>& bucket_start = g.bucket_start;
+  bucket_start.assign(nv + 1, 0);
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (!in_range(triangles[f])) continue;
+    for (unsigned i = 0; i < 3; ++i) ++bucket_start[std::min(triangles[f][i], triangles[f][(i + 1) % 3]) + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) bucket_start[v + 1] += bucket_start[v];
+  std::vector<CornerEdge>& corners = g.corners;
+  corners.resize(bucket_start[nv]);
+  std::vector<std::uint32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (!in_range(triangles[f])) continue;
+    for (unsigned i = 0; i < 3; ++i) {
+      const std::uint32_t a = triangles[f][i];
+      const std::uint32_t b = triangles[f][(i + 1) % 3];
+      corners[fill[std::min(a, b)]++] = {std::max(a, b), static_cast<std::uint32_t>(3 * f + i)};
+    }
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (bucket_start[v + 1] - bucket_start[v] > 32) {
+      // A high-valence vertex (a cone apex, a pole): insertion sort would be quadratic.
+      std::sort(corners.begin() + bucket_start[v], corners.begin() + bucket_start[v + 1],
+                [](const CornerEdge& x, const CornerEdge& y) {
+                  return x.high != y.high ? x.high < y.high : x.corner < y.corner;
+                });
+      continue;
+    }
+    for (std::uint32_t i = bucket_start[v] + 1; i < bucket_start[v + 1]; ++i) {
+      const CornerEdge item = corners[i];
+      std::uint32_t j = i;
+      for (; j > bucket_start[v] && corners[j - 1].high > item.high; --j) corners[j] = corners[j - 1];
+      corners[j] = item;
+    }
+  }
+  return g;
+}
+
 }  // namespace
 
 HalfedgeId HalfedgeMesh::find_halfedge(VertexId a, VertexId b) const {
@@ -106,44 +158,9 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
     }
   }
 
-  // Group the 3F directed corner edges by undirected edge: a counting sort by the smaller
-  // vertex (linear, cache-friendly), then a tiny insertion sort by the larger vertex inside
-  // each bucket. Both passes are stable in the corner index, so edge numbering depends only
-  // on the input order.
-  std::vector<CornerEdge> corners(3 * nf);
-  std::vector<std::uint32_t> bucket_start(nv + 1, 0);
-  {
-    for (std::size_t f = 0; f < nf; ++f) {
-      for (unsigned i = 0; i < 3; ++i) {
-        ++bucket_start[std::min(triangles[f][i], triangles[f][(i + 1) % 3]) + 1];
-      }
-    }
-    for (std::size_t v = 0; v < nv; ++v) bucket_start[v + 1] += bucket_start[v];
-    std::vector<std::uint32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f) {
-      for (unsigned i = 0; i < 3; ++i) {
-        const std::uint32_t a = triangles[f][i];
-        const std::uint32_t b = triangles[f][(i + 1) % 3];
-        corners[fill[std::min(a, b)]++] = {std::max(a, b), static_cast<std::uint32_t>(3 * f + i)};
-      }
-    }
-    for (std::size_t v = 0; v < nv; ++v) {
-      if (bucket_start[v + 1] - bucket_start[v] > 32) {
-        // A high-valence vertex (a cone apex, a pole): insertion sort would be quadratic.
-        std::sort(corners.begin() + bucket_start[v], corners.begin() + bucket_start[v + 1],
-                  [](const CornerEdge& x, const CornerEdge& y) {
-                    return x.high != y.high ? x.high < y.high : x.corner < y.corner;
-                  });
-        continue;
-      }
-      for (std::uint32_t i = bucket_start[v] + 1; i < bucket_start[v + 1]; ++i) {
-        const CornerEdge item = corners[i];
-        std::uint32_t j = i;
-        for (; j > bucket_start[v] && corners[j - 1].high > item.high; --j) corners[j] = corners[j - 1];
-        corners[j] = item;
-      }
-    }
-  }
+  const CornerGroups groups = group_corner_edges(triangles, nv);
+  const std::vector<std::uint32_t>& bucket_start = groups.bucket_start;
+  const std::vector<CornerEdge>& corners = groups.corners;
 
   auto corner_tail = [&](std::uint32_t c) { return triangles[c / 3][c % 3]; };
 
@@ -263,6 +280,17 @@ Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::s
     }
   }
   return mesh;
+}
+
+std::vector<EdgeCorner> sorted_edge_uses(std::span<const Triangle> triangles, std::size_t num_vertices) {
+  const CornerGroups groups = group_corner_edges(triangles, num_vertices);
+  std::vector<EdgeCorner> uses(groups.corners.size());
+  for (std::size_t v = 0; v < num_vertices; ++v) {
+    for (std::uint32_t i = groups.bucket_start[v]; i < groups.bucket_start[v + 1]; ++i) {
+      uses[i] = {(std::uint64_t{v} << 32) | groups.corners[i].high, groups.corners[i].corner};
+    }
+  }
+  return uses;
 }
 
 Status check_invariants(const HalfedgeMesh& mesh) {

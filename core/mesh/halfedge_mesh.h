@@ -114,6 +114,21 @@ class HalfedgeMesh {
 /// Complexity: O(n log n) in the number of triangles (one sort of the edge keys).
 Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::span<const Triangle> triangles);
 
+/// One use of an undirected edge by a triangle: corner 3t + k is the directed edge
+/// t[k] -> t[k+1] of triangle t.
+struct EdgeCorner {
+  std::uint64_t key;     ///< (min vertex << 32) | max vertex: the undirected edge
+  std::uint32_t corner;  ///< 3 * triangle + k
+};
+
+/// The 3 edge uses of every triangle whose indices are all < num_vertices (others are left
+/// out), sorted by (key, corner): the uses of one undirected edge are adjacent and in corner
+/// order. Exactly the order std::sort gives on (key, corner), computed as build_halfedge_mesh
+/// groups its edges (a counting sort by the smaller vertex, an insertion sort per vertex), so
+/// the edge grouping of repair and pinch-splitting code can share the builder's kernel.
+/// Complexity: O(F + V) for bounded valence; a vertex of valence d > 32 costs O(d log d).
+std::vector<EdgeCorner> sorted_edge_uses(std::span<const Triangle> triangles, std::size_t num_vertices);
+
 /// Checks every connectivity invariant listed on HalfedgeMesh (twin/next/prev consistency,
 /// faces are triangles, boundary loops closed, vertex half-edges outgoing, rotations cover
 /// every outgoing half-edge). Returns kTopologyViolation naming the first broken one.

@@ -1,5 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <random>
+#include <tuple>
+
 #include "core/mesh/halfedge_mesh.h"
 #include "fixtures.h"
 
@@ -149,4 +153,38 @@ TEST_CASE("isolated vertices are kept and skipped") {
   CHECK(mesh->num_vertices() == 5);
   CHECK(mesh->is_isolated(VertexId(4u)));
   CHECK(check_invariants(*mesh).ok());
+}
+
+TEST_CASE("sorted_edge_uses is std::sort's (key, corner) order, fins, a pole and bad faces included") {
+  fx::Soup s = fx::icosphere(3);
+  const auto n = static_cast<std::uint32_t>(s.positions.size());
+  // A pole of valence 40 (past the insertion sort's limit), a fin, a repeated triangle, and a
+  // triangle out of range (left out); then the faces shuffled.
+  s.positions.push_back(Vec3(0, 0, 5));
+  for (std::uint32_t k = 0; k < 40; ++k) s.triangles.push_back({n, k, k + 1});
+  s.triangles.push_back({s.triangles[0][0], s.triangles[0][1], 7});
+  s.triangles.push_back(s.triangles[3]);
+  s.triangles.push_back({0, 1, n + 5});
+  std::mt19937 rng(9);
+  std::shuffle(s.triangles.begin(), s.triangles.end(), rng);
+
+  std::vector<EdgeCorner> expected;
+  const std::size_t nv = s.positions.size();
+  for (std::uint32_t t = 0; t < s.triangles.size(); ++t) {
+    const Triangle& tri = s.triangles[t];
+    if (tri[0] >= nv || tri[1] >= nv || tri[2] >= nv) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint64_t a = tri[k], b = tri[(k + 1) % 3];
+      expected.push_back({(std::min(a, b) << 32) | std::max(a, b), 3 * t + k});
+    }
+  }
+  std::sort(expected.begin(), expected.end(), [](const EdgeCorner& x, const EdgeCorner& y) {
+    return std::tie(x.key, x.corner) < std::tie(y.key, y.corner);
+  });
+  const std::vector<EdgeCorner> uses = sorted_edge_uses(s.triangles, nv);
+  REQUIRE(uses.size() == expected.size());
+  for (std::size_t i = 0; i < uses.size(); ++i) {
+    CHECK(uses[i].key == expected[i].key);
+    CHECK(uses[i].corner == expected[i].corner);
+  }
 }
