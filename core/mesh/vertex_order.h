@@ -14,7 +14,8 @@ namespace seam::core {
 /// Returns order[new] = old. Vertices close in space get close numbers, so graph searches
 /// that walk the surface touch memory in nearly sequential order. The order depends on the
 /// positions alone (not on the input order) unless two positions are identical.
-/// Positions must be finite. Complexity: O(n log n).
+/// Positions must be finite. Complexity: O(n) (a radix sort of the codes), plus O(k log k)
+/// for each run of k vertices sharing a code.
 std::vector<std::uint32_t> spatial_order(std::span<const Vec3> positions);
 
 }  // namespace seam::core

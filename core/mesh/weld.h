@@ -27,8 +27,10 @@ struct WeldResult {
 /// Welds `positions`. Welded vertices are numbered in order of their smallest input index,
 /// so the result depends only on the input, not on hashing or threads.
 /// Errors: kNonFinitePosition (elements: first offending input vertices), kInvalidArgument
-/// (bad epsilon), kCancelled. Complexity: O(n log n); with epsilon > 0, expected O(n log n)
-/// on a grid of cell size epsilon (pathological clusters degrade to O(k^2) per cell).
+/// (bad epsilon), kCancelled. Complexity: with epsilon 0, O(n) (a radix sort of 64-bit hashes
+/// of the positions; k positions sharing a hash cost O(k^2) comparisons, k = the multiplicity
+/// of a position unless hashes collide); with epsilon > 0, expected O(n log n) on a grid of
+/// cell size epsilon (pathological clusters degrade to O(k^2) per cell).
 Result<WeldResult> weld_vertices(std::span<const Vec3> positions, const WeldOptions& options,
                                  const CancelToken& cancel = CancelToken::none());
 
