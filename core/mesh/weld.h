@@ -28,8 +28,8 @@ struct WeldResult {
 /// so the result depends only on the input, not on hashing or threads.
 /// Errors: kNonFinitePosition (elements: first offending input vertices), kInvalidArgument
 /// (bad epsilon), kCancelled. Complexity: with epsilon 0, O(n) (a radix sort of 64-bit hashes
-/// of the positions; k positions sharing a hash cost O(k^2) comparisons, k = the multiplicity
-/// of a position unless hashes collide); with epsilon > 0, expected O(n log n) on a grid of
+/// of the positions; only k distinct positions whose hashes collide cost O(k^2) comparisons);
+/// with epsilon > 0, expected O(n log n) on a grid of
 /// cell size epsilon (pathological clusters degrade to O(k^2) per cell).
 Result<WeldResult> weld_vertices(std::span<const Vec3> positions, const WeldOptions& options,
                                  const CancelToken& cancel = CancelToken::none());
