@@ -4,6 +4,7 @@
 #include <numeric>
 #include <tuple>
 
+#include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/split_pinched.h"
 #include "core/seam/tree_util.h"
 
@@ -20,10 +21,7 @@ struct Work {
 };
 
 // Corner 3t + k is the directed edge t[k] -> t[k+1].
-struct EdgeUse {
-  std::uint64_t key;  // (min vertex << 32) | max vertex
-  std::uint32_t corner;
-};
+using EdgeUse = EdgeCorner;
 
 bool in_range(const Triangle& t, std::size_t n) { return t[0] < n && t[1] < n && t[2] < n; }
 
@@ -36,21 +34,7 @@ std::uint32_t corner_at(const std::vector<Triangle>& tris, std::uint32_t corner,
 
 // Every edge use, grouped by undirected edge and in corner order inside a group, so the
 // result depends only on the input order.
-std::vector<EdgeUse> edge_uses(const Work& w) {
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * w.triangles.size());
-  for (std::uint32_t t = 0; t < w.triangles.size(); ++t) {
-    const Triangle& tri = w.triangles[t];
-    if (!in_range(tri, w.positions.size())) continue;
-    for (std::uint32_t k = 0; k < 3; ++k) {
-      const std::uint64_t a = tri[k], b = tri[(k + 1) % 3];
-      uses.push_back({(std::min(a, b) << 32) | std::max(a, b), 3 * t + k});
-    }
-  }
-  std::sort(uses.begin(), uses.end(),
-            [](const EdgeUse& x, const EdgeUse& y) { return std::tie(x.key, x.corner) < std::tie(y.key, y.corner); });
-  return uses;
-}
+std::vector<EdgeUse> edge_uses(const Work& w) { return sorted_edge_uses(w.triangles, w.positions.size()); }
 
 // Calls f(begin, end) for every group of uses of one undirected edge.
 template <class F>
