@@ -11,11 +11,14 @@
 #include "core/seam/straighten.h"
 #include "core/paths/steiner.h"
 #include "fixtures.h"
+#include "tree_oracle.h"
 #include "skeleton_fixtures.h"
 #include "test_data.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
+
+using seam::test_oracle::full_component_length;
 
 namespace {
 
@@ -25,39 +28,6 @@ HalfedgeMesh spiky_mesh(int spikes, std::vector<VertexId>& tips) {
   return build_halfedge_mesh(s.soup.positions, s.soup.triangles).value();
 }
 
-// Independent check: one tree over the terminals, every terminal of degree 1, no other leaf.
-// Returns its length (Euclidean).
-double require_full_component(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges,
-                              const std::vector<VertexId>& terminals) {
-  REQUIRE_FALSE(edges.empty());
-  std::map<std::uint32_t, int> degree;
-  std::map<std::uint32_t, std::uint32_t> parent;
-  std::function<std::uint32_t(std::uint32_t)> find = [&](std::uint32_t x) {
-    if (!parent.count(x)) parent[x] = x;
-    return parent[x] == x ? x : parent[x] = find(parent[x]);
-  };
-  double length = 0;
-  for (EdgeId e : edges) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(e);
-    const auto a = mesh.tail(h).value(), b = mesh.head(h).value();
-    ++degree[a];
-    ++degree[b];
-    const auto ra = find(a), rb = find(b);
-    REQUIRE_MESSAGE(ra != rb, "a cycle");
-    parent[ra] = rb;
-    length += mesh.edge_length(e);
-  }
-  CHECK(degree.size() == edges.size() + 1);
-  std::set<std::uint32_t> is_terminal;
-  for (VertexId t : terminals) {
-    is_terminal.insert(t.value());
-    CHECK_MESSAGE(degree[t.value()] == 1, "terminal " << t.value() << " is not a leaf");
-  }
-  for (const auto& [v, d] : degree) {
-    if (!is_terminal.count(v)) CHECK_MESSAGE(d >= 2, "dangling vertex " << v);
-  }
-  return length;
-}
 
 }  // namespace
 
@@ -67,10 +37,10 @@ TEST_CASE("improve_tree: the star tree gets shorter, stays a full component, nev
   const EdgeGraph graph = build_edge_graph(mesh);
   auto star = star_tree(mesh, graph, tips);
   REQUIRE(star.ok());
-  const double star_length = require_full_component(mesh, *star, tips);
+  const double star_length = full_component_length(mesh, *star, tips);
   auto improved = improve_tree(mesh, graph, {}, tips, *star);
   REQUIRE(improved.ok());
-  const double length = require_full_component(mesh, improved->edges, tips);
+  const double length = full_component_length(mesh, improved->edges, tips);
   CHECK(length < star_length);  // the star through one centre is far from optimal on spikes
   CHECK(improved->stats.length_before == doctest::Approx(star_length));
   CHECK(improved->stats.length_after == doctest::Approx(length));
@@ -95,13 +65,13 @@ TEST_CASE("improve_tree: random terminal sets on a real mesh never lengthen the 
     REQUIRE(paths.ok());
     auto skeleton = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false});
     REQUIRE(skeleton.ok());
-    const double before = require_full_component(mesh, skeleton->tree.edges, terminals);
+    const double before = full_component_length(mesh, skeleton->tree.edges, terminals);
     auto a = improve_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
     auto b = improve_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
     REQUIRE(a.ok());
     REQUIRE(b.ok());
     CHECK(a->edges == b->edges);
-    const double after = require_full_component(mesh, a->edges, terminals);
+    const double after = full_component_length(mesh, a->edges, terminals);
     CHECK(after <= before + 1e-12);
     auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
     REQUIRE(optimal.ok());
@@ -129,7 +99,7 @@ TEST_CASE("improve_tree: weighted edges are what it shortens") {
   };
   auto improved = improve_tree(mesh, graph, weights, tips, *star);
   REQUIRE(improved.ok());
-  require_full_component(mesh, improved->edges, tips);
+  full_component_length(mesh, improved->edges, tips);
   CHECK(weighted_length(improved->edges) <= weighted_length(*star) + 1e-12);
   CHECK(improved->stats.length_after == doctest::Approx(weighted_length(improved->edges)));
 }
@@ -163,10 +133,10 @@ TEST_CASE("nearest_terminal_tree: a full component on random sets, shortened by 
     CAPTURE(trial);
     auto greedy = nearest_terminal_tree(mesh, graph, terminals);
     REQUIRE(greedy.ok());
-    const double length = require_full_component(mesh, *greedy, terminals);
+    const double length = full_component_length(mesh, *greedy, terminals);
     auto improved = improve_tree(mesh, graph, {}, terminals, *greedy);
     REQUIRE(improved.ok());
-    CHECK(require_full_component(mesh, improved->edges, terminals) <= length + 1e-12);
+    CHECK(full_component_length(mesh, improved->edges, terminals) <= length + 1e-12);
     auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
     REQUIRE(optimal.ok());
     CHECK(optimal->length <= length + 1e-9);

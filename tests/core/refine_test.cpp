@@ -11,47 +11,17 @@
 #include "core/seam/straighten.h"
 #include "core/paths/steiner.h"
 #include "fixtures.h"
+#include "tree_oracle.h"
 #include "skeleton_fixtures.h"
 #include "test_data.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
+using seam::test_oracle::full_component_length;
+
 namespace {
 
-// Independent check: one tree over the terminals, every terminal of degree 1, no other leaf.
-// Returns its Euclidean length.
-double full_component_length(const HalfedgeMesh& mesh, const std::vector<EdgeId>& edges,
-                             const std::vector<VertexId>& terminals) {
-  REQUIRE_FALSE(edges.empty());
-  std::map<std::uint32_t, int> degree;
-  std::map<std::uint32_t, std::uint32_t> parent;
-  std::function<std::uint32_t(std::uint32_t)> find = [&](std::uint32_t x) {
-    if (!parent.count(x)) parent[x] = x;
-    return parent[x] == x ? x : parent[x] = find(parent[x]);
-  };
-  double length = 0;
-  for (EdgeId e : edges) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(e);
-    const auto a = mesh.tail(h).value(), b = mesh.head(h).value();
-    ++degree[a];
-    ++degree[b];
-    const auto ra = find(a), rb = find(b);
-    REQUIRE_MESSAGE(ra != rb, "a cycle");
-    parent[ra] = rb;
-    length += mesh.edge_length(e);
-  }
-  CHECK(degree.size() == edges.size() + 1);
-  std::set<std::uint32_t> is_terminal;
-  for (VertexId t : terminals) {
-    is_terminal.insert(t.value());
-    CHECK_MESSAGE(degree[t.value()] == 1, "terminal " << t.value() << " is not a leaf");
-  }
-  for (const auto& [v, d] : degree) {
-    if (!is_terminal.count(v)) CHECK_MESSAGE(d >= 2, "dangling vertex " << v);
-  }
-  return length;
-}
 
 std::vector<VertexId> random_terminals(const HalfedgeMesh& mesh, std::size_t k, std::mt19937& rng) {
   std::vector<VertexId> terminals;
