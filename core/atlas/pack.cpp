@@ -197,6 +197,15 @@ double uv_area(const PackChart& chart) {
   return area;
 }
 
+// The rectangle turned a quarter where needed so it is wider than tall: (x, y) -> (y, -x).
+MinAreaRect landscape(MinAreaRect r) {
+  if (r.size.y() <= r.size.x()) return r;
+  r.angle -= 0.5 * std::numbers::pi;
+  r.min = Vec2(r.min.y(), -(r.min.x() + r.size.x()));
+  r.size = Vec2(r.size.y(), r.size.x());
+  return r;
+}
+
 // The rotation of a hull that minimises its longer bounding side (a long strip fits a smaller
 // square diagonally), searched over half a turn in 0.5 degree steps, then made wider than tall.
 MinAreaRect min_square_rect(std::span<const Vec2> hull) {
@@ -217,12 +226,7 @@ MinAreaRect min_square_rect(std::span<const Vec2> hull) {
       best = {angle, size, lo};
     }
   }
-  if (best.size.y() > best.size.x()) {
-    best.angle -= 0.5 * std::numbers::pi;
-    best.min = Vec2(best.min.y(), -(best.min.x() + best.size.x()));
-    best.size = Vec2(best.size.y(), best.size.x());
-  }
-  return best;
+  return landscape(best);
 }
 
 // Boundary edges of a chart (edges used by one triangle), as point pairs through `map`.
@@ -321,13 +325,7 @@ MinAreaRect min_area_rect(std::span<const Vec2> hull) {
       best = {angle, size, lo};
     }
   }
-  if (best.size.y() > best.size.x()) {
-    // Turn a quarter so the rectangle is wider than tall: (x, y) -> (y, -x).
-    best.angle -= 0.5 * std::numbers::pi;
-    best.min = Vec2(best.min.y(), -(best.min.x() + best.size.x()));
-    best.size = Vec2(best.size.y(), best.size.x());
-  }
-  return best;
+  return landscape(best);
 }
 
 namespace {
