@@ -68,21 +68,47 @@ stop_server() {
   echo "$hwm"
 }
 
+# run_row NAME CONC SECONDS QUERY: one wrk run against a fresh seamd; sets $row (the printed
+# line's fields) and $rps.
+run_row() {
+  local name=$1 conc=$2 secs=$3 q=$4 threads out rss reqs secs_run non2xx errs p50 p99 mean
+  start_server
+  threads=$(( conc < 2 ? 1 : 2 ))
+  out=$(BODY_FILE="$work/$name.glb" wrk -t"$threads" -c"$conc" -d"${secs}s" --timeout 300s \
+          -s "$work/post.lua" "http://127.0.0.1:$port/seam$q" 2>&1 | grep '^RESULT' || true)
+  rss=$(stop_server)
+  read -r _ reqs secs_run non2xx errs p50 p99 mean <<< "$out"
+  rps=$(python3 -c "print(f'{$reqs/$secs_run:.2f}')")
+  row=$(printf '%-12s %5d %9s %9s %9s %9s %7s %8s' "$name" "$conc" "$rps" "$p50" "$p99" "$mean" "$non2xx" "$rss")
+  [[ "${errs:-0}" == 0 ]] || row+=$'\n'"             ($errs socket errors/timeouts)"
+}
+
 echo "seamd load benchmark: $(nproc) cores, --workers $workers, query '$query', $(date -u +%FT%TZ)"
 printf '%-12s %5s %9s %9s %9s %9s %7s %8s\n' mesh conc req/s p50_ms p99_ms mean_ms 503s rss_MB
 for spec in "${inputs[@]}"; do
   read -r name _ _ secs_row <<< "$spec"
   for conc in 1 8 64; do
-    start_server
-    threads=$(( conc < 2 ? 1 : 2 ))
-    out=$(BODY_FILE="$work/$name.glb" wrk -t"$threads" -c"$conc" -d"${secs_row}s" --timeout 300s \
-            -s "$work/post.lua" "http://127.0.0.1:$port/seam$query" 2>&1 | grep '^RESULT' || true)
-    rss=$(stop_server)
-    read -r _ reqs secs non2xx errs p50 p99 mean <<< "$out"
-    rps=$(python3 -c "print(f'{$reqs/$secs:.2f}')")
-    printf '%-12s %5d %9s %9s %9s %9s %7s %8s\n' "$name" "$conc" "$rps" "$p50" "$p99" "$mean" "$non2xx" "$rss"
-    [[ "${errs:-0}" == 0 ]] || echo "             ($errs socket errors/timeouts)"
+    run_row "$name" "$conc" "$secs_row" "$query"
+    echo "$row"
   done
+done
+
+# Issue 14, item 5: with the per-request thread budget (CPUs / workers), 8 clients must get at
+# least 1.8x the single client's throughput. Measured on the default job (skeleton seam, SLIM,
+# GLB out), which is what most callers send.
+echo
+echo "Concurrency scaling, default job (no query): throughput at 8 clients / at 1 (target >= 1.8):"
+printf '%-12s %9s %9s %7s %7s\n' mesh rps_1 rps_8 ratio target
+for spec in "${inputs[@]}"; do
+  read -r name _ _ secs_row <<< "$spec"
+  run_row "$name" 1 "$secs_row" ""; rps1=$rps
+  run_row "$name" 8 "$secs_row" ""; rps8=$rps
+  python3 - "$name" "$rps1" "$rps8" <<'PY'
+import sys
+name, r1, r8 = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
+ratio = r8 / r1 if r1 > 0 else 0.0
+print(f'{name:<12} {r1:9.2f} {r8:9.2f} {ratio:7.2f} {">= 1.8":>7} {"met" if ratio >= 1.8 else "MISSED"}')
+PY
 done
 
 echo
