@@ -98,147 +98,180 @@ JobResult run_job(const Job& job, const SeamParams& params, const PipelineLimits
   return r;
 }
 
-int usage(std::ostream& err, const ApiError& error) {
-  ApiError e = error;
+// A usage mistake: the message says where the usage is.
+ApiError with_usage_hint(ApiError e) {
   e.message += " (seamd batch --help shows the usage)";
-  return cli::fail(err, e, 2);
+  return e;
 }
 
-}  // namespace
+// What every job of the batch shares: the parameters, the output kind and the thread split.
+struct BatchPlan {
+  json merged;  // the parameters as given, for the report
+  SeamParams params;
+  std::string out_ext;  // ".glb", or ".json" with --output json
+  unsigned workers = 1;
+  PipelineLimits limits;
+};
 
-int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const CliContext& context) {
-  auto parsed = cli::parse_args(argc, argv,
-                                {{"--out-dir", "out_dir"}, {"--workers", "workers"}, {"--threads", "threads"},
-                                 {"--report", "report"}, {"--params", "params"}});
-  if (!parsed.ok()) return usage(err, parsed.error());
-  cli::ParsedArgs& args = *parsed;
-  if (args.help) {
-    out << cli_usage();
-    return 0;
-  }
-  if (args.version) {
-    out << "seamd " << context.version << "\n";
-    return 0;
-  }
-  if (args.positional.empty()) return usage(err, cli::usage_error("in", "batch needs files or folders"));
-  if (args.own.count("out_dir") == 0) return usage(err, cli::usage_error("out_dir", "batch needs --out-dir DIR"));
-  json merged;
-  auto params = cli::build_params(args, merged);
-  if (!params.ok()) return usage(err, params.error());
-  const bool json_output = merged.contains("output") && params->output == OutputFormat::kJson;
-  if (!json_output) params->output = OutputFormat::kGlb;
-  const std::string out_ext = json_output ? ".json" : ".glb";
-
-  const unsigned cores = context.cores != 0 ? context.cores : std::max(1u, std::thread::hardware_concurrency());
-  unsigned workers = cores;
+ApiResult<BatchPlan> plan_batch(cli::ParsedArgs& args, unsigned cores) {
+  if (args.positional.empty()) return with_usage_hint(cli::usage_error("in", "batch needs files or folders"));
+  if (args.own.count("out_dir") == 0) return with_usage_hint(cli::usage_error("out_dir", "batch needs --out-dir DIR"));
+  BatchPlan plan;
+  auto params = cli::build_params(args, plan.merged);
+  if (!params.ok()) return with_usage_hint(params.error());
+  plan.params = std::move(params).value();
+  const bool json_output = plan.merged.contains("output") && plan.params.output == OutputFormat::kJson;
+  if (!json_output) plan.params.output = OutputFormat::kGlb;
+  plan.out_ext = json_output ? ".json" : ".glb";
+  plan.workers = cores;
   if (args.own.count("workers") != 0) {
     auto w = cli::positive_count("workers", args.own["workers"]);
-    if (!w.ok()) return usage(err, w.error());
-    workers = *w;
+    if (!w.ok()) return with_usage_hint(w.error());
+    plan.workers = *w;
   }
-  PipelineLimits limits;
-  limits.threads = std::max(1u, cores / workers);
+  plan.limits.threads = std::max(1u, cores / plan.workers);
   if (args.own.count("threads") != 0) {
     auto t = cli::positive_count("threads", args.own["threads"]);
-    if (!t.ok()) return usage(err, t.error());
-    limits.threads = *t;
+    if (!t.ok()) return with_usage_hint(t.error());
+    plan.limits.threads = *t;
   }
+  return plan;
+}
 
-  // The output folder: created, and every check done before any asset is read.
-  const std::string out_dir = args.own["out_dir"];
+// Where results go: the output folder (created) and the report, every check done before any
+// asset is read.
+struct BatchOutputs {
+  std::string out_dir;
+  fs::path out_canonical;  // to skip earlier outputs when a folder input contains it
+  cli::OutputTarget report;
+};
+
+ApiResult<BatchOutputs> prepare_outputs(cli::ParsedArgs& args) {
+  BatchOutputs outputs;
+  outputs.out_dir = args.own["out_dir"];
+  const std::string& out_dir = outputs.out_dir;
   std::error_code ec;
   if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec)) {
-    return cli::fail(err, cli::usage_error("out_dir", "--out-dir " + out_dir + " is not a directory"), 2);
+    return cli::usage_error("out_dir", "--out-dir " + out_dir + " is not a directory");
   }
   fs::create_directories(out_dir, ec);
-  if (ec) {
-    return cli::fail(err, cli::usage_error("out_dir", "cannot create --out-dir " + out_dir + ": " + ec.message()), 2);
-  }
-  const fs::path out_canonical = fs::canonical(out_dir, ec);
+  if (ec) return cli::usage_error("out_dir", "cannot create --out-dir " + out_dir + ": " + ec.message());
+  outputs.out_canonical = fs::canonical(out_dir, ec);
   auto probe = cli::check_output((fs::path(out_dir) / "probe.glb").string(), "out_dir");
-  if (!probe.ok()) return cli::fail(err, probe.error(), 2);
+  if (!probe.ok()) return probe.error();
   const std::string report_path =
       args.own.count("report") != 0 ? args.own["report"] : (fs::path(out_dir) / "report.json").string();
-  auto report_target = cli::check_output(report_path, "report");
-  if (!report_target.ok()) return cli::fail(err, report_target.error(), 2);
+  auto report = cli::check_output(report_path, "report");
+  if (!report.ok()) return report.error();
+  outputs.report = std::move(report).value();
+  return outputs;
+}
 
-  // The assets: files as given, folders searched recursively (sorted), each once.
+// The asset files one input names: the file itself, or a folder's asset files found
+// recursively (sorted), each with the path shown and mirrored below the output folder.
+using FoundFiles = std::vector<std::pair<fs::path, fs::path>>;
+
+ApiResult<FoundFiles> find_assets(const std::string& in, const fs::path& out_canonical) {
+  FoundFiles found;
+  std::error_code ec;
+  if (!fs::is_directory(in, ec)) {
+    if (!fs::exists(in, ec)) return cli::usage_error("in", "no such file or folder: " + in);
+    found.emplace_back(in, fs::path(in).filename());
+    return found;
+  }
+  for (fs::recursive_directory_iterator it(in, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    if (kAssetExtensions.count(cli::lower_extension(it->path().string())) == 0) continue;
+    if (!out_canonical.empty() && inside(fs::canonical(it->path(), ec), out_canonical)) continue;
+    found.emplace_back(it->path(), fs::relative(it->path(), in, ec));
+  }
+  if (ec) return cli::usage_error("in", "cannot list " + in + ": " + ec.message());
+  std::sort(found.begin(), found.end());
+  if (found.empty()) {
+    return with_usage_hint(cli::usage_error("in", in + " holds no .glb, .gltf, .drc, .obj or .off file"));
+  }
+  return found;
+}
+
+// One job per distinct asset file; two inputs that would write the same output are refused.
+ApiResult<std::vector<Job>> collect_jobs(const std::vector<std::string>& inputs, const BatchOutputs& outputs,
+                                         const std::string& out_ext) {
   std::vector<Job> jobs;
   std::set<std::string> seen_inputs;
   std::map<std::string, std::string> input_of_output;
-  for (const auto& in : args.positional) {
-    std::vector<std::pair<fs::path, fs::path>> found;  // (file, the path shown and mirrored)
-    if (fs::is_directory(in, ec)) {
-      for (fs::recursive_directory_iterator it(in, fs::directory_options::skip_permission_denied, ec), end;
-           !ec && it != end; it.increment(ec)) {
-        if (!it->is_regular_file(ec)) continue;
-        if (kAssetExtensions.count(cli::lower_extension(it->path().string())) == 0) continue;
-        if (!out_canonical.empty() && inside(fs::canonical(it->path(), ec), out_canonical)) continue;
-        found.emplace_back(it->path(), fs::relative(it->path(), in, ec));
-      }
-      if (ec) return cli::fail(err, cli::usage_error("in", "cannot list " + in + ": " + ec.message()), 2);
-      std::sort(found.begin(), found.end());
-      if (found.empty()) {
-        return usage(err, cli::usage_error("in", in + " holds no .glb, .gltf, .drc, .obj or .off file"));
-      }
-    } else if (fs::exists(in, ec)) {
-      found.emplace_back(in, fs::path(in).filename());
-    } else {
-      return cli::fail(err, cli::usage_error("in", "no such file or folder: " + in), 2);
-    }
+  std::error_code ec;
+  for (const auto& in : inputs) {
+    SEAM_TRY(FoundFiles found, find_assets(in, outputs.out_canonical));
     for (const auto& [file, shown] : found) {
-      const std::string key = fs::weakly_canonical(file, ec).string();
-      if (!seen_inputs.insert(key).second) continue;
-      fs::path output = fs::path(out_dir) / shown;
+      if (!seen_inputs.insert(fs::weakly_canonical(file, ec).string()).second) continue;
+      fs::path output = fs::path(outputs.out_dir) / shown;
       output.replace_extension(out_ext);
       const auto [it, fresh] = input_of_output.emplace(output.string(), file.string());
       if (!fresh) {
-        return usage(err, cli::usage_error("in", file.string() + " and " + it->second + " would both be written to " +
-                                                     output.string() + "; rename one or run them separately"));
+        return with_usage_hint(cli::usage_error("in", file.string() + " and " + it->second +
+                                                          " would both be written to " + output.string() +
+                                                          "; rename one or run them separately"));
       }
       jobs.push_back({file.string(), output.string(), shown.string()});
     }
   }
+  return jobs;
+}
 
-  // Workers take the next job; lines are printed as jobs finish, under one lock.
-  std::vector<JobResult> results(jobs.size());
+// "[ 3/12] sub/a.glb  12,345 faces  0.84 s  ok"
+std::string progress_line(std::size_t done, std::size_t total, const Job& job, const JobResult& r) {
+  const std::size_t width = std::to_string(total).size();
+  std::string index = std::to_string(done);
+  index.insert(0, width - std::min(width, index.size()), ' ');
+  std::string line = "[" + index + "/" + std::to_string(total) + "] " + job.name + "  " +
+                     (r.faces ? with_thousands(*r.faces) : std::string("?")) + " faces  " + fixed(r.seconds, 2) + " s  ";
+  if (r.ok) return line + "ok";
+  return line + "failed: " + r.error.value("code", std::string()) + ": " + r.error.value("message", std::string());
+}
+
+struct BatchRun {
+  std::vector<JobResult> results;  // in job order
+  double seconds = 0;
+  unsigned threads = 0;
+};
+
+// Workers take the next job; lines are printed as jobs finish, under one lock.
+BatchRun run_jobs(const std::vector<Job>& jobs, const BatchPlan& plan, std::ostream& err) {
+  BatchRun run;
+  run.results.resize(jobs.size());
   std::atomic<std::size_t> next{0};
   std::size_t done = 0;
   std::mutex print_mutex;
-  const std::size_t width = std::to_string(jobs.size()).size();
   const auto start = std::chrono::steady_clock::now();
   auto work = [&] {
     for (std::size_t i = next++; i < jobs.size(); i = next++) {
       try {
-        results[i] = run_job(jobs[i], *params, limits, out_ext);
+        run.results[i] = run_job(jobs[i], plan.params, plan.limits, plan.out_ext);
       } catch (const std::exception& e) {  // bad_alloc reading a huge file: this asset fails, not the batch
-        results[i] = JobResult{};
-        results[i].error = error_body(make_api_error(ApiErrorCode::kInternal, e.what()))["error"];
+        run.results[i] = JobResult{};
+        run.results[i].error = error_body(make_api_error(ApiErrorCode::kInternal, e.what()))["error"];
       }
-      const JobResult& r = results[i];
       std::lock_guard<std::mutex> lock(print_mutex);
-      std::string index = std::to_string(++done);
-      index.insert(0, width - std::min(width, index.size()), ' ');
-      std::string line = "[" + index + "/" + std::to_string(jobs.size()) + "] " + jobs[i].name + "  " +
-                         (r.faces ? with_thousands(*r.faces) : std::string("?")) + " faces  " + fixed(r.seconds, 2) +
-                         " s  ";
-      if (r.ok) line += "ok";
-      else line += "failed: " + r.error.value("code", std::string()) + ": " + r.error.value("message", std::string());
-      err << line << "\n";
+      err << progress_line(++done, jobs.size(), jobs[i], run.results[i]) << "\n";
       err.flush();
     }
   };
-  const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(workers, jobs.size()));
+  run.threads = static_cast<unsigned>(std::min<std::size_t>(plan.workers, jobs.size()));
   std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+  for (unsigned t = 1; t < run.threads; ++t) pool.emplace_back(work);
   work();
   for (auto& t : pool) t.join();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
 
+json batch_report(const std::vector<Job>& jobs, const BatchRun& run, const BatchPlan& plan,
+                  const BatchOutputs& outputs, const CliContext& context) {
   std::size_t ok = 0;
   json assets = json::array();
   for (std::size_t i = 0; i < jobs.size(); ++i) {
-    const JobResult& r = results[i];
+    const JobResult& r = run.results[i];
     json entry = {{"input", jobs[i].input},
                   {"output", r.ok ? json(jobs[i].output) : json(nullptr)},
                   {"status", r.ok ? "ok" : "failed"},
@@ -252,25 +285,54 @@ int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const
     }
     assets.push_back(std::move(entry));
   }
-  const std::size_t failed = jobs.size() - ok;
-  const json report = {{"seamd", context.version},
-                       {"params", merged},
-                       {"workers", workers},
-                       {"threads_per_asset", limits.threads},
-                       {"out_dir", out_dir},
-                       {"summary", {{"assets", jobs.size()}, {"ok", ok}, {"failed", failed}, {"seconds", seconds}}},
-                       {"assets", std::move(assets)}};
-  const std::string report_text = report.dump(2) + "\n";
+  return {{"seamd", context.version},
+          {"params", plan.merged},
+          {"workers", plan.workers},
+          {"threads_per_asset", plan.limits.threads},
+          {"out_dir", outputs.out_dir},
+          {"summary", {{"assets", jobs.size()}, {"ok", ok}, {"failed", jobs.size() - ok}, {"seconds", run.seconds}}},
+          {"assets", std::move(assets)}};
+}
+
+}  // namespace
+
+int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const CliContext& context) {
+  auto parsed = cli::parse_args(argc, argv,
+                                {{"--out-dir", "out_dir"}, {"--workers", "workers"}, {"--threads", "threads"},
+                                 {"--report", "report"}, {"--params", "params"}});
+  if (!parsed.ok()) return cli::fail(err, with_usage_hint(parsed.error()), 2);
+  cli::ParsedArgs& args = *parsed;
+  if (args.help) {
+    out << cli_usage();
+    return 0;
+  }
+  if (args.version) {
+    out << "seamd " << context.version << "\n";
+    return 0;
+  }
+  const unsigned cores = context.cores != 0 ? context.cores : std::max(1u, std::thread::hardware_concurrency());
+  auto plan = plan_batch(args, cores);
+  if (!plan.ok()) return cli::fail(err, plan.error(), 2);
+  auto outputs = prepare_outputs(args);
+  if (!outputs.ok()) return cli::fail(err, outputs.error(), 2);
+  auto jobs = collect_jobs(args.positional, *outputs, plan->out_ext);
+  if (!jobs.ok()) return cli::fail(err, jobs.error(), 2);
+
+  const BatchRun run = run_jobs(*jobs, *plan, err);
+  const json report = batch_report(*jobs, run, *plan, *outputs, context);
+  const std::size_t failed = report["summary"]["failed"].get<std::size_t>();
+  const std::size_t ok = jobs->size() - failed;
   int code = failed == 0 ? 0 : 1;
-  if (report_target->to_stdout) {
-    out << report_text;
-  } else if (auto e = cli::write_output(*report_target, report_text)) {
+  if (outputs->report.to_stdout) {
+    out << report.dump(2) << "\n";
+  } else if (auto e = cli::write_output(outputs->report, report.dump(2) + "\n")) {
     cli::fail(err, *e, 1);
     code = 1;
   }
-  err << "batch: " << jobs.size() << (jobs.size() == 1 ? " asset, " : " assets, ") << ok << " ok, " << failed << " failed in " << fixed(seconds, 1)
-      << " s over " << threads << (threads == 1 ? " worker" : " workers") << "; report "
-      << (report_target->to_stdout ? std::string("on stdout") : report_target->path) << "\n";
+  err << "batch: " << jobs->size() << (jobs->size() == 1 ? " asset, " : " assets, ") << ok << " ok, " << failed
+      << " failed in " << fixed(run.seconds, 1) << " s over " << run.threads
+      << (run.threads == 1 ? " worker" : " workers") << "; report "
+      << (outputs->report.to_stdout ? std::string("on stdout") : outputs->report.path) << "\n";
   return code;
 }
 

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
@@ -159,6 +160,91 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+namespace {
+
+// The flag being read: `--name` or `--name=value`, and the arguments after it.
+struct FlagCursor {
+  int argc;
+  char** argv;
+  int& i;  // the flag's index; taking a separate value advances it
+  std::string name;
+  std::optional<std::string> inline_value;
+
+  std::optional<std::string> take_value() {
+    if (inline_value) return inline_value;
+    if (i + 1 >= argc) return std::nullopt;
+    return std::string(argv[++i]);
+  }
+  // A following boolean word (`--draco false`), taken only when it is one.
+  std::optional<bool> take_bool() {
+    if (inline_value || i + 1 >= argc) return std::nullopt;
+    const auto b = parse_bool(argv[i + 1]);
+    if (b) ++i;
+    return b;
+  }
+};
+
+std::optional<ApiError> take_own_flag(ParsedArgs& args, const OwnFlag& own, FlagCursor& flag) {
+  const auto value = flag.take_value();
+  if (!value) return usage_error(own.canonical, flag.name + " needs a value");
+  if (const auto it = args.own_flag.find(own.canonical); it != args.own_flag.end()) {
+    return usage_error(own.canonical, it->second == flag.name ? flag.name + " is given twice"
+                                                              : it->second + " and " + flag.name + " are the same flag");
+  }
+  args.own[own.canonical] = *value;
+  args.own_flag[own.canonical] = flag.name;
+  return std::nullopt;
+}
+
+// An API parameter flag: a listed one (`--no-NAME` for booleans) converted by its kind, or an
+// unlisted `--a-b V` as key a_b with V as JSON when it parses.
+std::optional<ApiError> take_param_flag(ParsedArgs& args, FlagCursor& flag) {
+  std::string flag_name = flag.name.substr(2);
+  bool negated = false;
+  const ParamFlag* spec = find_param_flag(flag_name);
+  if (spec == nullptr && flag_name.rfind("no-", 0) == 0) {
+    const ParamFlag* positive = find_param_flag(flag_name.substr(3));
+    if (positive != nullptr && positive->kind == ValueKind::kBool) {
+      spec = positive;
+      negated = true;
+    }
+  }
+  json value;
+  std::string key;
+  if (spec != nullptr) {
+    key = std::string(spec->key);
+    if (negated) {
+      if (flag.inline_value) return usage_error(key, flag.name + " takes no value");
+      value = false;
+    } else if (spec->kind == ValueKind::kBool && !flag.inline_value) {
+      value = flag.take_bool().value_or(true);  // `--draco` alone is true
+    } else {
+      const auto text = flag.take_value();
+      if (!text) return usage_error(key, flag.name + " needs a value");
+      auto converted = convert(*spec, *text);
+      if (!converted.ok()) return converted.take_error();
+      value = std::move(converted).value();
+    }
+  } else {
+    if (flag_name.empty()) return usage_error(flag.name, "unknown flag " + flag.name);
+    key = flag_name;
+    for (auto& c : key) c = c == '-' ? '_' : c;
+    const auto text = flag.take_value();
+    if (!text) return usage_error(key, flag.name + " needs a value (or it is not a flag of this command)");
+    value = json_or_string(*text);
+    args.generic_key[key] = true;
+  }
+  if (const auto it = args.flag_of_key.find(key); it != args.flag_of_key.end()) {
+    return usage_error(key, it->second == flag.name ? flag.name + " is given twice"
+                                                    : it->second + " and " + flag.name + " both set " + key);
+  }
+  args.param_flags[key] = std::move(value);
+  args.flag_of_key[key] = flag.name;
+  return std::nullopt;
+}
+
+}  // namespace
+
 ApiResult<ParsedArgs> parse_args(int argc, char** argv, const std::vector<OwnFlag>& own_flags) {
   ParsedArgs args;
   bool flags_done = false;
@@ -166,92 +252,22 @@ ApiResult<ParsedArgs> parse_args(int argc, char** argv, const std::vector<OwnFla
     const std::string arg = argv[i];
     if (flags_done || arg == "-" || arg.empty() || arg[0] != '-') {
       args.positional.push_back(arg);
-      continue;
-    }
-    if (arg == "--") {
+    } else if (arg == "--") {
       flags_done = true;
-      continue;
-    }
-    if (arg == "--help" || arg == "-h") {
+    } else if (arg == "--help" || arg == "-h") {
       args.help = true;
-      continue;
-    }
-    if (arg == "--version") {
+    } else if (arg == "--version") {
       args.version = true;
-      continue;
-    }
-    if (arg.rfind("--", 0) != 0) return usage_error(arg, "unknown flag " + arg);
-
-    const auto eq = arg.find('=');
-    const std::string name = arg.substr(0, eq);
-    std::optional<std::string> inline_value;
-    if (eq != std::string::npos) inline_value = arg.substr(eq + 1);
-    auto take_value = [&]() -> std::optional<std::string> {
-      if (inline_value) return inline_value;
-      if (i + 1 >= argc) return std::nullopt;
-      return std::string(argv[++i]);
-    };
-
-    // The command's own flags.
-    const OwnFlag* own = nullptr;
-    for (const auto& f : own_flags) {
-      if (f.name == name) own = &f;
-    }
-    if (own != nullptr) {
-      const auto value = take_value();
-      if (!value) return usage_error(own->canonical, name + " needs a value");
-      if (const auto it = args.own_flag.find(own->canonical); it != args.own_flag.end()) {
-        const std::string both = it->second == name ? name + " is given twice" : it->second + " and " + name + " are the same flag";
-        return usage_error(own->canonical, both);
-      }
-      args.own[own->canonical] = *value;
-      args.own_flag[own->canonical] = name;
-      continue;
-    }
-
-    // API parameters.
-    std::string flag_name = name.substr(2);
-    bool negated = false;
-    const ParamFlag* spec = find_param_flag(flag_name);
-    if (spec == nullptr && flag_name.rfind("no-", 0) == 0) {
-      const ParamFlag* positive = find_param_flag(flag_name.substr(3));
-      if (positive != nullptr && positive->kind == ValueKind::kBool) {
-        spec = positive;
-        negated = true;
-      }
-    }
-    json value;
-    std::string key;
-    if (spec != nullptr) {
-      key = std::string(spec->key);
-      if (negated) {
-        if (inline_value) return usage_error(key, name + " takes no value");
-        value = false;
-      } else if (spec->kind == ValueKind::kBool && !inline_value) {
-        // The value is optional: `--draco` alone is true, `--draco false` is false.
-        if (i + 1 < argc && parse_bool(argv[i + 1])) value = *parse_bool(argv[++i]);
-        else value = true;
-      } else {
-        const auto text = take_value();
-        if (!text) return usage_error(key, name + " needs a value");
-        SEAM_TRY(value, convert(*spec, *text));
-      }
+    } else if (arg.rfind("--", 0) != 0) {
+      return usage_error(arg, "unknown flag " + arg);
     } else {
-      if (flag_name.empty()) return usage_error(arg, "unknown flag " + arg);
-      key = flag_name;
-      for (auto& c : key) c = c == '-' ? '_' : c;
-      const auto text = take_value();
-      if (!text) return usage_error(key, name + " needs a value (or it is not a flag of this command)");
-      value = json_or_string(*text);
-      args.generic_key[key] = true;
+      const auto eq = arg.find('=');
+      FlagCursor flag{argc, argv, i, arg.substr(0, eq), std::nullopt};
+      if (eq != std::string::npos) flag.inline_value = arg.substr(eq + 1);
+      const auto own = std::find_if(own_flags.begin(), own_flags.end(), [&](const OwnFlag& f) { return f.name == flag.name; });
+      auto error = own != own_flags.end() ? take_own_flag(args, *own, flag) : take_param_flag(args, flag);
+      if (error) return *error;
     }
-    if (const auto it = args.flag_of_key.find(key); it != args.flag_of_key.end()) {
-      const std::string both = it->second == name ? name + " is given twice"
-                                                  : it->second + " and " + name + " both set " + key;
-      return usage_error(key, both);
-    }
-    args.param_flags[key] = std::move(value);
-    args.flag_of_key[key] = name;
   }
   return args;
 }
