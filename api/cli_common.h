@@ -55,6 +55,7 @@ std::optional<ApiError> set_positional(ParsedArgs& args, const std::string& cano
 ApiResult<SeamParams> build_params(const ParsedArgs& args, nlohmann::json& merged);
 
 /// Parses a positive integer flag value (`--workers`, `--threads`).
+/// Errors: kInvalidParameter (not an integer from 1 to 4096), details.parameter = `flag`.
 ApiResult<unsigned> positive_count(const std::string& flag, const std::string& value);
 
 /// The input file, or `in` for "-". Errors: kMalformedAsset naming the path and the reason.
@@ -63,6 +64,8 @@ ApiResult<std::string> read_input(const std::string& path, std::istream& in);
 /// Asset bytes ready for run_seam_pipeline: glTF, GLB and Draco pass through (sniffed by
 /// content); OFF and OBJ (sniffed by content, else by the name's extension) become a plain
 /// GLB. `format` is "glb", "gltf", "draco", "off" or "obj".
+/// Errors: read_off's and read_obj's (kMalformedAsset with the line), write_plain_glb's
+/// (kInternal); glTF, GLB and Draco bytes are checked later by the pipeline, not here.
 struct LoadedAsset {
   std::string bytes;
   AssetKind kind = AssetKind::kAuto;

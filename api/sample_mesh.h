@@ -20,6 +20,7 @@ core::IndexedMesh sample_mesh();
 std::vector<std::uint32_t> sample_tips();
 
 /// sample_mesh() as GLB with smooth vertex normals (NORMAL) and the tips in the node's extras.
+/// Errors: write_plain_glb's (kInternal); none are expected for this fixed mesh.
 ApiResult<std::string> sample_glb();
 
 }  // namespace seam::api
