@@ -2,33 +2,112 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <tuple>
 #include <set>
 #include <thread>
 #include <unordered_map>
 
 namespace seam::core {
 
+namespace {
+
+Status validate_terminals(const HalfedgeMesh& mesh, std::span<const VertexId> terminals) {
+  const std::size_t k = terminals.size();
+  if (k < 2) return make_error(ErrorCode::kInvalidArgument, "shortest paths need at least two terminals");
+  std::vector<VertexId> sorted(terminals.begin(), terminals.end());
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!sorted[i].valid() || sorted[i].index() >= mesh.num_vertices()) {
+      return make_error(ErrorCode::kInvalidArgument, "terminal vertex out of range", {sorted[i].value()});
+    }
+    if (i > 0 && sorted[i] == sorted[i - 1]) {
+      return make_error(ErrorCode::kInvalidArgument, "terminal vertex given twice", {sorted[i].value()});
+    }
+  }
+  return Ok{};
+}
+
+struct Candidate {
+  double d;
+  std::uint32_t i, j;  // i < j
+  bool operator<(const Candidate& o) const { return std::tie(d, i, j) < std::tie(o.d, o.i, o.j); }
+};
+
+// Kruskal over terminal pairs: the accepted pairs in order (ties by index).
+std::vector<std::array<std::uint32_t, 2>> kruskal(std::size_t k, std::vector<Candidate> candidates) {
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<std::uint32_t> parent(k);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<std::array<std::uint32_t, 2>> mst;
+  for (const Candidate& c : candidates) {
+    if (c.d == ShortestPathTree::kUnreached) break;
+    const std::uint32_t a = find(c.i), b = find(c.j);
+    if (a == b) continue;
+    parent[a] = b;
+    mst.push_back({c.i, c.j});
+  }
+  return mst;
+}
+
+std::vector<HalfedgeId> reversed(std::span<const HalfedgeId> path) {
+  std::vector<HalfedgeId> back(path.rbegin(), path.rend());
+  for (auto& h : back) h = HalfedgeMesh::twin(h);
+  return back;
+}
+
+}  // namespace
+
+double TerminalPaths::dist(std::size_t i, std::size_t j) const {
+  const std::size_t at = i * size() + j;
+  if (std::isnan(distance_[at])) search_pair(std::min(i, j), std::max(i, j));
+  return distance_[at];
+}
+
+const std::vector<HalfedgeId>& TerminalPaths::path_between(std::size_t i, std::size_t j) const {
+  const std::size_t at = i * size() + j;
+  if (std::isnan(distance_[at])) search_pair(std::min(i, j), std::max(i, j));
+  return path_[at];
+}
+
+void TerminalPaths::set(std::size_t i, std::size_t j, double d, std::vector<HalfedgeId> path) const {
+  const std::size_t k = size();
+  distance_[j * k + i] = d;
+  path_[j * k + i] = reversed(path);
+  distance_[i * k + j] = d;
+  path_[i * k + j] = std::move(path);
+}
+
+void TerminalPaths::search_pair(std::size_t i, std::size_t j) const {
+  SEAM_ASSERT(search_ != nullptr);  // a complete table knows every pair
+  ++searches_;
+  search_->reset();
+  search_->add_source(terminals[i]);
+  const VertexId target[] = {terminals[j]};
+  (void)search_->run(target);  // no cancel token: cannot fail
+  // Every terminal this search settled is known now (settled distances are final).
+  for (std::size_t other = 0; other < size(); ++other) {
+    if (other == i || !std::isnan(distance_[i * size() + other]) || !search_->reached(terminals[other])) continue;
+    set(i, other, search_->distance(terminals[other]), search_->path_to(*mesh_, terminals[other]));
+  }
+  if (std::isnan(distance_[i * size() + j])) set(i, j, ShortestPathTree::kUnreached, {});
+}
+
 Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                              std::span<const VertexId> terminals, unsigned threads,
                                              const CancelToken& cancel) {
+  if (auto st = validate_terminals(mesh, terminals); !st.ok()) return st.take_error();
   const std::size_t k = terminals.size();
-  if (k < 2) return make_error(ErrorCode::kInvalidArgument, "shortest paths need at least two terminals");
-  {
-    std::vector<VertexId> sorted(terminals.begin(), terminals.end());
-    std::sort(sorted.begin(), sorted.end());
-    for (std::size_t i = 0; i < k; ++i) {
-      if (!sorted[i].valid() || sorted[i].index() >= mesh.num_vertices()) {
-        return make_error(ErrorCode::kInvalidArgument, "terminal vertex out of range", {sorted[i].value()});
-      }
-      if (i > 0 && sorted[i] == sorted[i - 1]) {
-        return make_error(ErrorCode::kInvalidArgument, "terminal vertex given twice", {sorted[i].value()});
-      }
-    }
-  }
   TerminalPaths result;
   result.terminals.assign(terminals.begin(), terminals.end());
-  result.distance.assign(k * k, ShortestPathTree::kUnreached);
-  result.path.assign(k * k, {});
+  result.distance_.assign(k * k, ShortestPathTree::kUnreached);
+  result.path_.assign(k * k, {});
 
   // Each worker takes source terminals from a shared counter and writes only row i, so
   // the output does not depend on scheduling.
@@ -48,10 +127,10 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
         failed[i] = 1;
         continue;
       }
-      result.distance[i * k + i] = 0.0;
+      result.distance_[i * k + i] = 0.0;
       for (std::size_t j = i + 1; j < k; ++j) {
-        result.distance[i * k + j] = tree->distance[terminals[j].index()];
-        result.path[i * k + j] = trace_path(mesh, *tree, terminals[j]);
+        result.distance_[i * k + j] = tree->distance[terminals[j].index()];
+        result.path_[i * k + j] = trace_path(mesh, *tree, terminals[j]);
       }
     }
   };
@@ -64,17 +143,64 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
   for (std::size_t i = 0; i < k; ++i) {
     if (failed[i]) return errors[i];
   }
-  result.distance[(k - 1) * k + (k - 1)] = 0.0;
+  result.distance_[(k - 1) * k + (k - 1)] = 0.0;
   // Use the lower-index row's path for both directions so i->j and j->i are the same edges.
-  for (std::size_t i = 0; i < k; ++i) {
-    for (std::size_t j = 0; j < i; ++j) {
-      auto& forward = result.path[j * k + i];
-      std::vector<HalfedgeId> reverse(forward.rbegin(), forward.rend());
-      for (auto& h : reverse) h = HalfedgeMesh::twin(h);
-      result.path[i * k + j] = std::move(reverse);
-      result.distance[i * k + j] = result.distance[j * k + i];
+  std::vector<Candidate> pairs;
+  pairs.reserve(k * (k - 1) / 2);
+  for (std::uint32_t i = 0; i < k; ++i) {
+    for (std::uint32_t j = i + 1; j < k; ++j) {
+      result.set(i, j, result.distance_[i * k + j], std::move(result.path_[i * k + j]));
+      pairs.push_back({result.distance_[i * k + j], i, j});
     }
   }
+  result.mst = kruskal(k, std::move(pairs));
+  return result;
+}
+
+Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                               std::span<const VertexId> terminals, const CancelToken& cancel) {
+  if (auto st = validate_terminals(mesh, terminals); !st.ok()) return st.take_error();
+  const std::size_t k = terminals.size();
+  SEAM_TRY(ShortestPathTree voronoi, dijkstra(graph, terminals, {}, cancel));
+  // Per terminal pair, the cheapest edge between their regions (first in vertex and slot
+  // order on ties, so the result is deterministic).
+  std::vector<Candidate> best(k * k, Candidate{ShortestPathTree::kUnreached, 0, 0});
+  std::vector<std::uint32_t> best_slot(k * k, 0);
+  for (std::uint32_t u = 0; u < graph.num_vertices(); ++u) {
+    const std::uint32_t su = voronoi.source[u];
+    if (su == VertexId::kInvalidValue) continue;
+    for (std::uint32_t slot = graph.offsets[u]; slot < graph.offsets[u + 1]; ++slot) {
+      const std::uint32_t v = graph.head[slot].value();
+      const std::uint32_t sv = voronoi.source[v];
+      if (sv == VertexId::kInvalidValue || su >= sv) continue;  // each crossing once, from the lower region
+      const double d = voronoi.distance[u] + graph.weight[slot] + voronoi.distance[v];
+      Candidate& c = best[su * k + sv];
+      if (d < c.d) c = {d, su, sv}, best_slot[su * k + sv] = slot;
+    }
+  }
+  std::vector<Candidate> proposals;
+  for (const Candidate& c : best) {
+    if (c.d != ShortestPathTree::kUnreached) proposals.push_back(c);
+  }
+  TerminalPaths result;
+  result.terminals.assign(terminals.begin(), terminals.end());
+  result.distance_.assign(k * k, std::numeric_limits<double>::quiet_NaN());
+  result.path_.assign(k * k, {});
+  for (std::size_t i = 0; i < k; ++i) result.distance_[i * k + i] = 0.0;
+  result.mst = kruskal(k, std::move(proposals));
+  // An MST pair's proposal is a shortest path (Mehlhorn's lemma): source i to u, u -> v,
+  // v back to source j.
+  for (const auto& [i, j] : result.mst) {
+    const std::uint32_t slot = best_slot[i * k + j];
+    std::vector<HalfedgeId> path = trace_path(mesh, voronoi, mesh.tail(graph.halfedge[slot]));
+    path.push_back(graph.halfedge[slot]);
+    const std::vector<HalfedgeId> tail = trace_path(mesh, voronoi, graph.head[slot]);
+    const std::vector<HalfedgeId> back = reversed(tail);
+    path.insert(path.end(), back.begin(), back.end());
+    result.set(i, j, best[i * k + j].d, std::move(path));
+  }
+  result.mesh_ = &mesh;
+  result.search_ = std::make_shared<PathSearch>(graph);
   return result;
 }
 

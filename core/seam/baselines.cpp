@@ -51,35 +51,12 @@ Result<SteinerTree> mst_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, s
                              const TerminalPaths& paths, const CancelToken& cancel) {
   const std::size_t k = paths.size();
   if (auto status = validate_terminals(graph, paths.terminals, "mst seam"); !status.ok()) return status.take_error();
-  struct Pair {
-    double d;
-    std::uint32_t i, j;
-  };
-  std::vector<Pair> pairs;
-  pairs.reserve(k * (k - 1) / 2);
-  for (std::uint32_t i = 0; i < k; ++i) {
-    for (std::uint32_t j = i + 1; j < k; ++j) pairs.push_back({paths.dist(i, j), i, j});
-  }
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-    return a.d != b.d ? a.d < b.d : (a.i != b.i ? a.i < b.i : a.j < b.j);
-  });
-  std::vector<std::uint32_t> parent(k);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
   std::vector<EdgeId> edges;
   std::size_t joined = 0;
-  for (const Pair& p : pairs) {
+  for (const auto& [i, j] : paths.mst) {
     if (cancel.is_cancelled()) return cancelled_error("mst seam");
-    const std::uint32_t a = find(p.i);
-    const std::uint32_t b = find(p.j);
-    if (a == b) continue;
-    if (p.d == kInf) break;
-    parent[a] = b;
     ++joined;
-    for (HalfedgeId h : paths.path_between(p.i, p.j)) edges.push_back(HalfedgeMesh::edge(h));
+    for (HalfedgeId h : paths.path_between(i, j)) edges.push_back(HalfedgeMesh::edge(h));
   }
   if (joined + 1 != k) {
     return make_error(ErrorCode::kInvalidArgument, "mst seam: the terminals are not all connected");

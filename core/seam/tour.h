@@ -34,8 +34,8 @@ struct TourStats {
   std::size_t tightened = 0;          ///< pieces afterwards replaced by the shortest path
 };
 
-/// Kruskal's MST of the complete terminal graph weighted by paths.dist (ties by index).
-/// Returns k - 1 pairs (i < j) in the order Kruskal accepted them. O(k^2 log k).
+/// The MST of the terminal distance graph (TerminalPaths::mst: Kruskal's, ties by index).
+/// Returns k - 1 pairs (i < j) in the order Kruskal accepted them. O(k).
 std::vector<std::array<std::uint32_t, 2>> terminal_mst(const TerminalPaths& paths);
 
 /// Algorithm 1: true when the closed walk `walk` self-intersects, i.e. at some vertex the

@@ -1,5 +1,8 @@
 #include <doctest/doctest.h>
 
+#include <functional>
+#include <limits>
+
 #include "core/paths/steiner.h"
 #include "fixtures.h"
 
@@ -46,6 +49,66 @@ TEST_CASE("terminal paths: symmetric, consistent with Dijkstra, independent of t
         CHECK(back[s] == HalfedgeMesh::twin(path[path.size() - 1 - s]));
       }
     }
+  }
+}
+
+namespace {
+// Prim's MST weight on the complete graph of `dist` (an independent oracle for Kruskal).
+double prim_weight(std::size_t k, const std::function<double(std::size_t, std::size_t)>& dist) {
+  std::vector<double> best(k, std::numeric_limits<double>::infinity());
+  std::vector<bool> in(k, false);
+  best[0] = 0.0;
+  double total = 0.0;
+  for (std::size_t step = 0; step < k; ++step) {
+    std::size_t u = k;
+    for (std::size_t v = 0; v < k; ++v) {
+      if (!in[v] && (u == k || best[v] < best[u])) u = v;
+    }
+    in[u] = true;
+    total += best[u];
+    for (std::size_t v = 0; v < k; ++v) best[v] = std::min(best[v], dist(u, v));
+  }
+  return total;
+}
+}  // namespace
+
+TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of the distance graph") {
+  const HalfedgeMesh mesh = sphere();
+  // Uneven weights, so ties are rare and Voronoi regions are not round.
+  std::vector<double> weights(mesh.num_edges());
+  for (std::size_t e = 0; e < weights.size(); ++e) weights[e] = mesh.edge_length(EdgeId(e)) * (1.0 + (e * 37 % 11) / 10.0);
+  for (const bool weighted : {false, true}) {
+    CAPTURE(weighted);
+    const std::span<const double> w = weighted ? std::span<const double>(weights) : std::span<const double>();
+    const EdgeGraph graph = build_edge_graph(mesh, w);
+    const std::vector<VertexId> terminals = {VertexId(5u),   VertexId(70u),  VertexId(101u), VertexId(300u),
+                                             VertexId(444u), VertexId(600u), VertexId(2u)};
+    const std::size_t k = terminals.size();
+    auto lazy = terminal_paths_on_demand(mesh, graph, terminals);
+    auto full = compute_terminal_paths(mesh, graph, terminals, 1);
+    REQUIRE(lazy.ok());
+    REQUIRE(full.ok());
+    REQUIRE(lazy->mst.size() == k - 1);
+    double mst_weight = 0.0;
+    for (const auto& [i, j] : lazy->mst) mst_weight += lazy->dist(i, j);
+    CHECK(lazy->searches() == 0);  // the MST pairs come from the one multi-source search
+    const double oracle = prim_weight(k, [&](std::size_t i, std::size_t j) { return full->dist(i, j); });
+    CHECK(mst_weight == doctest::Approx(oracle).epsilon(1e-12));
+    for (std::size_t i = 0; i < k; ++i) {
+      for (std::size_t j = 0; j < k; ++j) {
+        CHECK(lazy->dist(i, j) == doctest::Approx(full->dist(i, j)).epsilon(1e-12));
+        const auto& path = lazy->path_between(i, j);
+        CHECK(path_length(mesh, path, w) == doctest::Approx(full->dist(i, j)).epsilon(1e-12));
+        if (i == j) continue;
+        REQUIRE_FALSE(path.empty());
+        CHECK(mesh.tail(path.front()) == terminals[i]);
+        CHECK(mesh.head(path.back()) == terminals[j]);
+        for (std::size_t s = 1; s < path.size(); ++s) CHECK(mesh.tail(path[s]) == mesh.head(path[s - 1]));
+      }
+    }
+    CHECK(lazy->searches() < k * (k - 1) / 2);  // a search records every terminal it settles
+    CHECK(terminal_paths_on_demand(mesh, graph, std::span(terminals).first(1)).error().code ==
+          ErrorCode::kInvalidArgument);
   }
 }
 
