@@ -1,4 +1,5 @@
 // Parsing the POST /seam parameters (API.md "Parameters") from JSON or the query string.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -228,91 +229,113 @@ ApiResult<std::vector<std::array<double, 3>>> views_from_json(const json& v) {
   return out;
 }
 
+// A string parameter that names one of a few choices.
+template <class T>
+ApiResult<T> choice(const json& v, const char* key, std::initializer_list<std::pair<const char*, T>> choices,
+                    const char* message) {
+  const std::string m = v.is_string() ? v.get<std::string>() : "";
+  for (const auto& [name, value] : choices) {
+    if (m == name) return value;
+  }
+  return invalid(key, message);
+}
+
+ApiResult<bool> boolean(const json& v, const std::string& key) {
+  if (!v.is_boolean()) return invalid(key, key + " must be true or false");
+  return v.get<bool>();
+}
+
+ApiResult<double> number_in(const json& v, const char* key, double lo, double hi, const char* message) {
+  if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo || v.get<double>() > hi) {
+    return invalid(key, message);
+  }
+  return v.get<double>();
+}
+
+using ApiStatus = ApiResult<core::Ok>;
+using Setter = ApiStatus (*)(SeamParams&, const json&);
+
+// Every parameter the API takes, in the order the unknown-parameter error lists them.
+// `mesh` as an object is the JSON request form's asset, which the server removes first.
+const std::vector<std::pair<std::string, Setter>>& parameter_setters() {
+  static const std::vector<std::pair<std::string, Setter>> setters = {
+      {"extrema", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.extrema, extrema_from_json(v)); return core::Ok{}; }},
+      {"mesh", [](SeamParams& p, const json& v) -> ApiStatus {
+         if (!v.is_object()) {
+           SEAM_TRY(p.mesh, small_index(v, "mesh"));
+         }
+         return core::Ok{};
+       }},
+      {"primitive", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.primitive, small_index(v, "primitive")); return core::Ok{}; }},
+      {"primitives", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.primitives, primitives_from_json(v)); return core::Ok{}; }},
+      {"method", [](SeamParams& p, const json& v) -> ApiStatus {
+         SEAM_TRY(p.method, choice<core::SeamMethod>(v, "method",
+                                                     {{"skeleton", core::SeamMethod::kSkeleton}, {"mst", core::SeamMethod::kMst},
+                                                      {"greedy", core::SeamMethod::kGreedy}, {"optimal", core::SeamMethod::kOptimal}},
+                                                     "method must be one of skeleton, mst, greedy, optimal"));
+         return core::Ok{};
+       }},
+      {"uv", [](SeamParams& p, const json& v) -> ApiStatus {
+         using Uv = std::optional<core::UvMethod>;
+         SEAM_TRY(p.uv, choice<Uv>(v, "uv",
+                                   {{"slim", core::UvMethod::kSlim}, {"arap", core::UvMethod::kArap}, {"bff", core::UvMethod::kBff},
+                                    {"lscm", core::UvMethod::kLscm}, {"none", std::nullopt}},
+                                   "uv must be one of slim, arap, bff, lscm, none"));
+         return core::Ok{};
+       }},
+      {"output", [](SeamParams& p, const json& v) -> ApiStatus {
+         SEAM_TRY(p.output, choice<OutputFormat>(v, "output",
+                                                 {{"json", OutputFormat::kJson}, {"glb", OutputFormat::kGlb}, {"svg", OutputFormat::kSvg}},
+                                                 "output must be \"json\", \"glb\" or \"svg\""));
+         return core::Ok{};
+       }},
+      {"draco", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.draco, boolean(v, "draco")); return core::Ok{}; }},
+      {"refine", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.refine, boolean(v, "refine")); return core::Ok{}; }},
+      {"repair", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.repair, boolean(v, "repair")); return core::Ok{}; }},
+      {"weld_epsilon", [](SeamParams& p, const json& v) -> ApiStatus {
+         SEAM_TRY(p.weld_epsilon, number_in(v, "weld_epsilon", 0, std::numeric_limits<double>::infinity(),
+                                            "weld_epsilon must be a finite number >= 0"));
+         return core::Ok{};
+       }},
+      {"pack", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.pack, pack_from_json(v)); return core::Ok{}; }},
+      {"charts", [](SeamParams& p, const json& v) -> ApiStatus {
+         SEAM_TRY(p.charts, choice<ChartMode>(v, "charts", {{"seam", ChartMode::kSeam}, {"features", ChartMode::kFeatures}},
+                                              "charts must be \"seam\" or \"features\""));
+         return core::Ok{};
+       }},
+      {"feature_angle_deg", [](SeamParams& p, const json& v) -> ApiStatus {
+         SEAM_TRY(p.feature_angle_deg, number_in(v, "feature_angle_deg", 0, 180, "feature_angle_deg must be a number from 0 to 180"));
+         return core::Ok{};
+       }},
+      {"hide_from", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.hide_from, views_from_json(v)); return core::Ok{}; }},
+      {"hide_occluded", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.hide_occluded, boolean(v, "hide_occluded")); return core::Ok{}; }},
+      {"hide_strength", [](SeamParams& p, const json& v) -> ApiStatus {
+         SEAM_TRY(p.hide_strength, number_in(v, "hide_strength", 0, 1000, "hide_strength must be a number from 0 to 1000"));
+         return core::Ok{};
+       }},
+  };
+  return setters;
+}
+
+ApiError unknown_parameter(const std::string& key) {
+  std::string known;
+  for (const auto& [name, _] : parameter_setters()) known += (known.empty() ? "" : ", ") + name;
+  return invalid(key, "unknown parameter \"" + key.substr(0, 60) + "\" (known: " + known + ")");
+}
+
 }  // namespace
 
 ApiResult<SeamParams> params_from_json(const json& params) {
   if (!params.is_object()) return invalid("params", "the parameters must be a JSON object");
   SeamParams out;
-  bool primitives_given = false;
   for (auto it = params.begin(); it != params.end(); ++it) {
-    const std::string& key = it.key();
-    const json& v = *it;
-    if (key == "extrema") {
-      SEAM_TRY(out.extrema, extrema_from_json(v));
-    } else if (key == "mesh") {
-      // In the JSON request form "mesh" is the asset object, which the server removes; an
-      // integer is the mesh index.
-      if (v.is_object()) continue;
-      SEAM_TRY(out.mesh, small_index(v, "mesh"));
-    } else if (key == "primitive") {
-      SEAM_TRY(out.primitive, small_index(v, "primitive"));
-    } else if (key == "primitives") {
-      SEAM_TRY(out.primitives, primitives_from_json(v));
-      primitives_given = true;
-    } else if (key == "method") {
-      const std::string m = v.is_string() ? v.get<std::string>() : "";
-      if (m == "skeleton") out.method = core::SeamMethod::kSkeleton;
-      else if (m == "mst") out.method = core::SeamMethod::kMst;
-      else if (m == "greedy") out.method = core::SeamMethod::kGreedy;
-      else if (m == "optimal") out.method = core::SeamMethod::kOptimal;
-      else return invalid("method", "method must be one of skeleton, mst, greedy, optimal");
-    } else if (key == "uv") {
-      const std::string m = v.is_string() ? v.get<std::string>() : "";
-      if (m == "bff") out.uv = core::UvMethod::kBff;
-      else if (m == "lscm") out.uv = core::UvMethod::kLscm;
-      else if (m == "arap") out.uv = core::UvMethod::kArap;
-      else if (m == "slim") out.uv = core::UvMethod::kSlim;
-      else if (m == "none") out.uv = std::nullopt;
-      else return invalid("uv", "uv must be one of slim, arap, bff, lscm, none");
-    } else if (key == "output") {
-      const std::string m = v.is_string() ? v.get<std::string>() : "";
-      if (m == "json") out.output = OutputFormat::kJson;
-      else if (m == "glb") out.output = OutputFormat::kGlb;
-      else if (m == "svg") out.output = OutputFormat::kSvg;
-      else return invalid("output", "output must be \"json\", \"glb\" or \"svg\"");
-    } else if (key == "pack") {
-      SEAM_TRY(out.pack, pack_from_json(v));
-    } else if (key == "hide_from") {
-      SEAM_TRY(out.hide_from, views_from_json(v));
-    } else if (key == "hide_occluded") {
-      if (!v.is_boolean()) return invalid("hide_occluded", "hide_occluded must be true or false");
-      out.hide_occluded = v.get<bool>();
-    } else if (key == "hide_strength") {
-      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0 || v.get<double>() > 1000) {
-        return invalid("hide_strength", "hide_strength must be a number from 0 to 1000");
-      }
-      out.hide_strength = v.get<double>();
-    } else if (key == "charts") {
-      const std::string m = v.is_string() ? v.get<std::string>() : "";
-      if (m == "seam") out.charts = ChartMode::kSeam;
-      else if (m == "features") out.charts = ChartMode::kFeatures;
-      else return invalid("charts", "charts must be \"seam\" or \"features\"");
-    } else if (key == "feature_angle_deg") {
-      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0 || v.get<double>() > 180) {
-        return invalid("feature_angle_deg", "feature_angle_deg must be a number from 0 to 180");
-      }
-      out.feature_angle_deg = v.get<double>();
-    } else if (key == "draco") {
-      if (!v.is_boolean()) return invalid("draco", "draco must be true or false");
-      out.draco = v.get<bool>();
-    } else if (key == "refine") {
-      if (!v.is_boolean()) return invalid("refine", "refine must be true or false");
-      out.refine = v.get<bool>();
-    } else if (key == "repair") {
-      if (!v.is_boolean()) return invalid("repair", "repair must be true or false");
-      out.repair = v.get<bool>();
-    } else if (key == "weld_epsilon") {
-      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0) {
-        return invalid("weld_epsilon", "weld_epsilon must be a finite number >= 0");
-      }
-      out.weld_epsilon = v.get<double>();
-    } else {
-      return invalid(key.substr(0, 60), "unknown parameter \"" + key.substr(0, 60) +
-                              "\" (known: extrema, mesh, primitive, primitives, method, uv, output, draco, refine, repair, "
-                                         "weld_epsilon, pack, charts, feature_angle_deg, hide_from, hide_occluded, hide_strength)");
-    }
+    const auto& setters = parameter_setters();
+    const auto setter = std::find_if(setters.begin(), setters.end(), [&](const auto& s) { return s.first == it.key(); });
+    if (setter == setters.end()) return unknown_parameter(it.key());
+    SEAM_TRY(core::Ok ok, setter->second(out, *it));
+    (void)ok;
   }
-  if (primitives_given && (out.mesh || out.primitive)) {
+  if (params.contains("primitives") && (out.mesh || out.primitive)) {
     return invalid("primitives", "primitives cannot be combined with mesh or primitive (v1's single-primitive "
                                  "selection): name the primitive as {\"primitives\": [{\"mesh\": i, \"primitive\": j}]}");
   }

@@ -43,15 +43,13 @@ for (const [k, name] of names) {
 }
 for (const name of enumCodes) if (![...names.values()].includes(name)) fail(`the document names ${name}, which error.cpp does not`);
 
-// Every parameter name params.cpp accepts (its "known: ..." list of the unknown-parameter error).
+// Every parameter name params.cpp accepts: the names of its parameter_setters() table.
 const params = readFileSync(paramsCpp, 'utf8');
-// The message may be split into adjacent string literals: join them first.
-const at = params.indexOf('unknown parameter');
-const message = at < 0 ? '' : params.slice(at, params.indexOf(');', at)).replace(/"\s*"/g, '');
-const known = /\(known: ([a-z_, ]+)\)/.exec(message);
-if (!known) fail(`no "(known: ...)" list in ${paramsCpp}: has its format changed?`);
+const setterTable = params.slice(params.indexOf('parameter_setters() {'), params.indexOf('return setters;'));
+const known = [...setterTable.matchAll(/\{"([a-z_]+)", \[\]\(SeamParams/g)].map((m) => m[1]);
+if (known.length < 10) fail(`found ${known.length} parameters in ${paramsCpp}'s parameter_setters(): has its format changed?`);
 const documented = Object.keys(doc.components.schemas.SeamParams.properties);
-for (const p of known ? known[1].split(',').map((s) => s.trim()) : []) {
+for (const p of known) {
   if (!documented.includes(p)) fail(`parameter ${p} (accepted by params.cpp) is not in SeamParams`);
 }
 
