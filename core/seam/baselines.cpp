@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/paths/dreyfus_wagner.h"
 #include "core/paths/forest.h"
 
 namespace seam::core {
@@ -141,142 +142,6 @@ Result<SteinerTree> greedy_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph
   return make_steiner_tree(mesh, edges, terminals, edge_weights);
 }
 
-namespace {
-
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-constexpr std::uint32_t kMergeBit = 0x80000000u;
-
-// Row S of the table from its splits: dp[S][v] = min over {A, S\A} of dp[A][v] + dp[S\A][v],
-// each unordered split once (A holds S's lowest terminal); terminals are never merge points.
-Status merge_row(std::span<const double> dp, std::size_t s, std::size_t nv, std::span<const VertexId> terminals,
-                 double* row, std::uint32_t* brow, std::uint32_t& polls, const CancelToken& cancel) {
-  const std::size_t low = s & (~s + 1);
-  for (std::size_t a = (s - 1) & s; a > 0; a = (a - 1) & s) {
-    if (!(a & low)) continue;
-    if (cancel.poll(polls)) return cancelled_error("optimal seam");
-    const double* ra = dp.data() + a * nv;
-    const double* rb = dp.data() + (s ^ a) * nv;
-    for (std::size_t v = 0; v < nv; ++v) {
-      const double value = ra[v] + rb[v];
-      if (value < row[v]) {
-        row[v] = value;
-        brow[v] = kMergeBit | static_cast<std::uint32_t>(a);
-      }
-    }
-  }
-  for (VertexId t : terminals) {
-    row[t.index()] = kInf;
-    brow[t.index()] = kNone;
-  }
-  return Ok{};
-}
-
-// The tree of table entry (full, root), following back-pointers: merges split the subset,
-// path steps go back along their half-edge.
-SteinerTree trace_table(const HalfedgeMesh& mesh, std::span<const std::uint32_t> back, std::size_t nv,
-                        std::size_t full, VertexId root, std::span<const VertexId> terminals,
-                        std::span<const double> edge_weights) {
-  std::vector<EdgeId> edges;
-  std::vector<std::pair<std::size_t, std::uint32_t>> stack{{full, root.value()}};
-  while (!stack.empty()) {
-    const auto [s, v] = stack.back();
-    stack.pop_back();
-    const std::uint32_t b = back[s * nv + v];
-    if (b == kNone) continue;  // the source of a singleton
-    if (b & kMergeBit) {
-      const std::size_t a = b & ~kMergeBit;
-      stack.emplace_back(a, v);
-      stack.emplace_back(s ^ a, v);
-    } else {
-      const HalfedgeId h(b);
-      edges.push_back(HalfedgeMesh::edge(h));
-      stack.emplace_back(s, mesh.tail(h).value());
-    }
-  }
-  // With positive weights the edges already form a tree; zero-weight (virtual) edges can tie
-  // into a cycle, which the forest step removes without touching a terminal's only edge.
-  // Nothing is pruned: with a contracted graph (see seam.cpp) a path ends on a vertex that
-  // the graph never names, which must stay.
-  std::vector<VertexId> ends;
-  for (EdgeId e : edges) {
-    ends.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
-    ends.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
-  }
-  const auto tree_edges = pruned_spanning_forest(mesh, edges, ends, edge_weights);
-  return make_steiner_tree(mesh, tree_edges, terminals, edge_weights);
-}
-
-// One Dreyfus–Wagner row grown along shortest paths: a multi-source Dijkstra seeded with the
-// whole row. After merging nearly every vertex is a seed, so the seeds are sorted once and
-// streamed in order alongside a heap that only holds improvements; that keeps the heap small
-// instead of pushing V entries per subset. With `lower` (a lower bound per vertex on what the
-// rest of any tree through it costs), states whose value plus that bound reaches `bound` are
-// dropped: a tree cheaper than `bound` never needs them (A*-like pruning, exact).
-Status grow_row(const EdgeGraph& graph, const std::vector<std::uint8_t>& is_terminal, std::uint32_t source,
-                double* row, std::uint32_t* brow, const double* lower, double bound, std::vector<Entry>& initial,
-                std::uint32_t& polls, const CancelToken& cancel) {
-  const std::size_t nv = graph.num_vertices();
-  initial.clear();
-  for (std::size_t v = 0; v < nv; ++v) {
-    if (row[v] == kInf) continue;
-    if (lower && row[v] + lower[v] >= bound) {
-      row[v] = kInf;
-      continue;
-    }
-    initial.emplace_back(row[v], static_cast<std::uint32_t>(v));
-  }
-  std::sort(initial.begin(), initial.end());
-  std::size_t next_seed = 0;
-  MinQueue queue;
-  while (next_seed < initial.size() || !queue.empty()) {
-    if (cancel.poll(polls)) return cancelled_error("optimal seam");
-    Entry top;
-    if (queue.empty() || (next_seed < initial.size() && initial[next_seed] < queue.top())) {
-      top = initial[next_seed++];
-    } else {
-      top = queue.top();
-      queue.pop();
-    }
-    const auto [d, v] = top;
-    if (d > row[v]) continue;
-    if (is_terminal[v] && v != source) continue;  // reached as a leaf, never passed through
-    for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
-      const std::uint32_t w = graph.head[slot].value();
-      const double nd = d + graph.weight[slot];
-      if (nd < row[w] && (!lower || nd + lower[w] < bound)) {
-        row[w] = nd;
-        brow[w] = graph.halfedge[slot].value();
-        queue.emplace(nd, w);
-      }
-    }
-  }
-  return Ok{};
-}
-
-// The bounded table's first rows: terminal-avoiding distances from every terminal (the
-// singleton rows, and the root's into `root_distance`), the lower bounds of the pruning.
-Status distance_rows(const EdgeGraph& graph, const std::vector<std::uint8_t>& is_terminal,
-                     std::span<const VertexId> terminals, std::vector<double>& dp, std::vector<std::uint32_t>& back,
-                     std::vector<double>& root_distance, std::vector<Entry>& initial, std::uint32_t& polls,
-                     const CancelToken& cancel) {
-  const std::size_t nv = graph.num_vertices();
-  const std::size_t m = terminals.size() - 1;
-  std::vector<std::uint32_t> scratch(nv, kNone);
-  root_distance.assign(nv, kInf);
-  for (std::size_t i = 0; i <= m; ++i) {
-    double* row = i < m ? dp.data() + (std::size_t{1} << i) * nv : root_distance.data();
-    std::uint32_t* brow = i < m ? back.data() + (std::size_t{1} << i) * nv : scratch.data();
-    row[terminals[i].index()] = 0;
-    if (auto st = grow_row(graph, is_terminal, terminals[i].value(), row, brow, nullptr, kInf, initial, polls, cancel);
-        !st.ok()) {
-      return st.take_error();
-    }
-  }
-  return Ok{};
-}
-
-}  // namespace
-
 Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
                                  std::span<const VertexId> terminals, std::size_t max_terminals,
                                  const CancelToken& cancel, double upper_bound) {
@@ -297,62 +162,40 @@ Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& grap
                           " MB; use fewer extrema or the skeleton method");
   }
 
-  std::vector<std::uint8_t> is_terminal(nv, 0);
-  for (VertexId t : terminals) is_terminal[t.index()] = 1;
-
   // dp[S][v]: the shortest tree joining the terminals in S and v in which every terminal is
-  // a leaf. Terminals are never expanded (no path passes through one) and merges happen only
-  // at non-terminal vertices (a terminal never gets degree two): the full-component constraint.
-  std::vector<double> dp(rows * nv, kInf);
-  std::vector<std::uint32_t> back(rows * nv, kNone);
-  std::uint32_t polls = 0;
-  std::vector<Entry> initial;
-  // With a bound, the singleton rows (terminal-avoiding distances) come first: the rest of a
-  // tree through v that still has to reach terminal t costs at least t's distance to v.
-  const bool bounded = upper_bound < kInf;
-  std::vector<double> root_distance, lower;
-  if (bounded) {
-    if (auto st = distance_rows(graph, is_terminal, terminals, dp, back, root_distance, initial, polls, cancel);
-        !st.ok()) {
-      return st.take_error();
-    }
-    lower.resize(nv);
-  }
-  for (std::size_t s = 1; s < rows; ++s) {
-    double* row = dp.data() + s * nv;
-    std::uint32_t* brow = back.data() + s * nv;
-    const bool singleton = (s & (s - 1)) == 0;
-    if (singleton && bounded) continue;  // done above
-    std::uint32_t source = kNone;
-    if (singleton) {
-      const auto i = static_cast<std::size_t>(std::countr_zero(s));
-      source = terminals[i].value();
-      row[source] = 0;
-    } else {
-      if (auto st = merge_row(dp, s, nv, terminals, row, brow, polls, cancel); !st.ok()) return st.take_error();
-    }
-    if (bounded) {
-      lower = root_distance;
-      for (std::size_t i = 0; i < m; ++i) {
-        if (s & (std::size_t{1} << i)) continue;
-        const double* ri = dp.data() + (std::size_t{1} << i) * nv;
-        for (std::size_t v = 0; v < nv; ++v) lower[v] = std::max(lower[v], ri[v]);
-      }
-    }
-    if (auto st = grow_row(graph, is_terminal, source, row, brow, bounded ? lower.data() : nullptr, upper_bound,
-                           initial, polls, cancel);
-        !st.ok()) {
-      return st.take_error();
-    }
-  }
-  const std::size_t full = rows - 1;
-  const VertexId root = terminals[k - 1];
-  if (dp[full * nv + root.index()] == kInf) {
-    if (bounded) return SteinerTree{};  // nothing shorter than the bound
+  // a leaf: terminals are never passed through and never meeting points (the full-component
+  // constraint). Terminal k-1 is the root, reached last as a leaf. With a bound, the
+  // terminal-avoiding distances give the kernel's lower bounds.
+  std::vector<std::uint8_t> is_terminal(nv, 0);
+  std::vector<std::uint32_t> port_mask(nv, 0);
+  for (VertexId t : terminals) is_terminal[t.index()] = 1;
+  for (std::size_t i = 0; i < m; ++i) port_mask[terminals[i].index()] = std::uint32_t{1} << i;
+  DreyfusWagner kernel;
+  SEAM_TRY(GroupSteinerTree tree, kernel.solve(graph,
+                                               GroupSteinerProblem{.ports = m,
+                                                                   .port_mask = port_mask,
+                                                                   .obstacle = is_terminal,
+                                                                   .leaf_only = is_terminal,
+                                                                   .root = terminals[k - 1],
+                                                                   .bound = upper_bound},
+                                               cancel));
+  if (tree.cost == kInf) {
+    if (upper_bound < kInf) return SteinerTree{};  // nothing shorter than the bound
     return make_error(ErrorCode::kInvalidArgument, "optimal seam: the terminals are not all connected");
   }
-
-  return trace_table(mesh, back, nv, full, root, terminals, edge_weights);
+  std::vector<EdgeId> edges;
+  for (HalfedgeId h : tree.halfedges) edges.push_back(HalfedgeMesh::edge(h));
+  // With positive weights the edges already form a tree; zero-weight (virtual) edges can tie
+  // into a cycle, which the forest step removes without touching a terminal's only edge.
+  // Nothing is pruned: with a contracted graph (see seam.cpp) a path ends on a vertex that
+  // the graph never names, which must stay.
+  std::vector<VertexId> ends;
+  for (EdgeId e : edges) {
+    ends.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+    ends.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+  }
+  const auto tree_edges = pruned_spanning_forest(mesh, edges, ends, edge_weights);
+  return make_steiner_tree(mesh, tree_edges, terminals, edge_weights);
 }
 
 }  // namespace seam::core

@@ -5,7 +5,7 @@
 #include <limits>
 #include <utility>
 
-#include "core/paths/indexed_heap.h"
+#include "core/paths/dreyfus_wagner.h"
 #include "core/paths/path_search.h"
 #include "core/seam/straighten.h"
 #include "core/seam/tree_util.h"
@@ -14,165 +14,61 @@ namespace seam::core {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double weight_of(const HalfedgeMesh& mesh, std::span<const double> edge_weights, EdgeId e) {
   return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
 }
 
-// Dreyfus–Wagner on a region of the mesh, with port *sets*: port i may be joined at any
-// vertex of its set (a loose subtree's non-terminal vertices, or a loose terminal alone).
+// Dreyfus–Wagner (the shared kernel) on a region of the mesh, with port *sets*: port i may
+// be joined at any vertex of its set (a loose subtree's non-terminal vertices, or a loose
+// terminal alone).
 class LocalSteiner {
  public:
-  LocalSteiner(const HalfedgeMesh& mesh, const EdgeGraph& graph) : mesh_(mesh), graph_(graph) {
+  explicit LocalSteiner(const HalfedgeMesh& mesh, const EdgeGraph& graph) : graph_(graph) {
     local_of_.assign(mesh.num_vertices(), -1);
   }
 
   // `region`: global vertices; `obstacle[i]`, `terminal[i]`, `port_mask[i]` per region vertex.
-  // Returns the minimum cost and, through `out`, the tree's edges; kInf if no tree costs less
-  // than `bound`. Every partial tree of a tree cheaper than `bound` is itself cheaper (edge
-  // weights are positive), so states at or above it are never stored: an exact
-  // branch-and-bound that leaves every state below the bound, and so the answer, unchanged.
-  double solve(std::span<const VertexId> region, const std::vector<std::uint8_t>& obstacle,
-               const std::vector<std::uint8_t>& terminal, const std::vector<std::uint32_t>& port_mask,
-               std::size_t ports, double bound, std::vector<EdgeId>& out, const CancelToken& cancel,
-               bool& cancelled) {
+  // The minimum tree (its edges), or no tree when none costs less than `bound`. Every partial
+  // tree of a tree cheaper than `bound` is itself cheaper (edge weights are positive), so the
+  // kernel's branch-and-bound leaves the answer unchanged.
+  Result<GroupSteinerTree> solve(std::span<const VertexId> region, const std::vector<std::uint8_t>& obstacle,
+                                 const std::vector<std::uint8_t>& terminal, const std::vector<std::uint32_t>& port_mask,
+                                 std::size_t ports, double bound, const CancelToken& cancel) {
     const std::size_t n = region.size();
     for (std::size_t i = 0; i < n; ++i) local_of_[region[i].index()] = static_cast<std::int32_t>(i);
-    // Local CSR adjacency.
-    offsets_.assign(n + 1, 0);
-    heads_.clear();
-    weights_.clear();
-    halfedges_.clear();
+    // The region's edge graph: local heads, the mesh's half-edges.
+    local_.offsets.assign(n + 1, 0);
+    local_.head.clear();
+    local_.weight.clear();
+    local_.halfedge.clear();
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t v = region[i].value();
       for (std::uint32_t slot = graph_.offsets[v]; slot < graph_.offsets[v + 1]; ++slot) {
         const std::int32_t w = local_of_[graph_.head[slot].index()];
         if (w < 0) continue;
-        heads_.push_back(static_cast<std::uint32_t>(w));
-        weights_.push_back(graph_.weight[slot]);
-        halfedges_.push_back(graph_.halfedge[slot]);
+        local_.head.push_back(VertexId(static_cast<std::uint32_t>(w)));
+        local_.weight.push_back(graph_.weight[slot]);
+        local_.halfedge.push_back(graph_.halfedge[slot]);
       }
-      offsets_[i + 1] = static_cast<std::uint32_t>(heads_.size());
+      local_.offsets[i + 1] = static_cast<std::uint32_t>(local_.head.size());
     }
-    const std::uint32_t full = (1u << ports) - 1;
-    dp_.assign((full + 1) * n, kInf);
-    kind_.assign((full + 1) * n, 0);
-    data_.assign((full + 1) * n, 0);
-    auto at = [n](std::uint32_t s, std::size_t v) { return static_cast<std::size_t>(s) * n + v; };
-    auto expandable = [&](std::size_t v, std::uint32_t s) {
-      if (!obstacle[v]) return true;
-      if ((port_mask[v] & s) == 0) return false;
-      return !terminal[v] || (s & (s - 1)) == 0;  // a terminal port only as a leaf
-    };
-    auto merge_point = [&](std::size_t v, std::uint32_t s) {
-      return !terminal[v] && (!obstacle[v] || (port_mask[v] & s) != 0);
-    };
-    std::uint32_t polls = 0;
-    key_.assign(n, kInf);
-    IndexedHeap heap(key_, n);
-    for (std::uint32_t s = 1; s <= full; ++s) {
-      const bool singleton = (s & (s - 1)) == 0;
-      if (singleton) {
-        for (std::size_t v = 0; v < n; ++v) {
-          if (port_mask[v] & s) dp_[at(s, v)] = 0.0, kind_[at(s, v)] = kSource;
-        }
-      } else {
-        for (std::size_t v = 0; v < n; ++v) {
-          if (!merge_point(v, s)) continue;
-          double best = kInf;
-          std::uint32_t best_t = 0;
-          for (std::uint32_t t = (s - 1) & s; t > 0; t = (t - 1) & s) {
-            if (t < (s ^ t)) continue;  // each split once
-            const double c = dp_[at(t, v)] + dp_[at(s ^ t, v)];
-            if (c < best) best = c, best_t = t;
-          }
-          if (best < bound) dp_[at(s, v)] = best, kind_[at(s, v)] = kMerge, data_[at(s, v)] = best_t;
-        }
-      }
-      // Dijkstra for subset s on this subset's row, through the shared indexed 4-ary heap
-      // (each vertex at most once, ties by index: the same settling order as before).
-      std::copy(dp_.begin() + static_cast<std::ptrdiff_t>(at(s, 0)),
-                dp_.begin() + static_cast<std::ptrdiff_t>(at(s, 0) + n), key_.begin());
-      for (std::size_t v = 0; v < n; ++v) {
-        if (key_[v] < kInf) heap.push_or_decrease(static_cast<std::uint32_t>(v));
-      }
-      while (!heap.empty()) {
-        if (cancel.poll(polls)) {
-          cancelled = true;
-          clear(region);
-          return kInf;
-        }
-        const std::uint32_t v = heap.pop();
-        if (!expandable(v, s)) continue;
-        const double d = key_[v];
-        for (std::uint32_t slot = offsets_[v]; slot < offsets_[v + 1]; ++slot) {
-          const std::uint32_t w = heads_[slot];
-          const double nd = d + weights_[slot];
-          if (nd < key_[w] && nd < bound) {
-            key_[w] = nd;
-            dp_[at(s, w)] = nd;
-            kind_[at(s, w)] = kEdge;
-            data_[at(s, w)] = halfedges_[slot].value();
-            heap.push_or_decrease(w);
-          }
-        }
-      }
-    }
-    std::size_t root = n;
-    for (std::size_t v = 0; v < n; ++v) {
-      if (dp_[at(full, v)] < kInf && (root == n || dp_[at(full, v)] < dp_[at(full, root)])) root = v;
-    }
-    double cost = kInf;
-    out.clear();
-    if (root < n) {
-      cost = dp_[at(full, root)];
-      std::vector<std::pair<std::uint32_t, std::size_t>> stack = {{full, root}};
-      while (!stack.empty()) {
-        const auto [s, v] = stack.back();
-        stack.pop_back();
-        switch (kind_[at(s, v)]) {
-          case kSource:
-            break;
-          case kMerge:
-            stack.emplace_back(data_[at(s, v)], v);
-            stack.emplace_back(s ^ data_[at(s, v)], v);
-            break;
-          case kEdge: {
-            const HalfedgeId h(data_[at(s, v)]);
-            out.push_back(HalfedgeMesh::edge(h));
-            stack.emplace_back(s, static_cast<std::size_t>(local_of_[mesh_.tail(h).index()]));
-            break;
-          }
-          default:
-            SEAM_ASSERT(false);
-        }
-      }
-    }
-    clear(region);
-    return cost;
+    for (VertexId v : region) local_of_[v.index()] = -1;
+    return kernel_.solve(local_,
+                         GroupSteinerProblem{.ports = ports,
+                                             .port_mask = port_mask,
+                                             .obstacle = obstacle,
+                                             .leaf_only = terminal,
+                                             .root = VertexId(),
+                                             .bound = bound},
+                         cancel);
   }
 
  private:
-  static constexpr std::uint8_t kSource = 1;
-  static constexpr std::uint8_t kMerge = 2;
-  static constexpr std::uint8_t kEdge = 3;
-
-  void clear(std::span<const VertexId> region) {
-    for (VertexId v : region) local_of_[v.index()] = -1;
-  }
-
-  const HalfedgeMesh& mesh_;
   const EdgeGraph& graph_;
   std::vector<std::int32_t> local_of_;
-  std::vector<std::uint32_t> offsets_;
-  std::vector<std::uint32_t> heads_;
-  std::vector<double> weights_;
-  std::vector<HalfedgeId> halfedges_;
-  std::vector<double> dp_;
-  std::vector<std::uint8_t> kind_;
-  std::vector<std::uint32_t> data_;
-  std::vector<double> key_;  // the current subset's row of dp_, keyed by the heap
+  EdgeGraph local_;
+  DreyfusWagner kernel_;
 };
 
 double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights, std::span<const EdgeId> edges) {
@@ -341,12 +237,11 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
       for (VertexId v : rest_vertices) in_rest[v.index()] = 0;
       work += region.size() << ports.size();
       if (work > options.max_work) break;
+      auto joined = solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, cancel);
+      if (!joined.ok()) return joined.take_error();
+      if (!(joined->cost < removed_length - 1e-9 * (1.0 + removed_length))) continue;
       std::vector<EdgeId> joining;
-      bool cancelled = false;
-      const double cost =
-          solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, joining, cancel, cancelled);
-      if (cancelled) return cancelled_error("seam refinement");
-      if (!(cost < removed_length - 1e-9 * (1.0 + removed_length))) continue;
+      for (HalfedgeId h : joined->halfedges) joining.push_back(HalfedgeMesh::edge(h));
       std::vector<EdgeId> candidate = rest;
       candidate.insert(candidate.end(), joining.begin(), joining.end());
       std::sort(candidate.begin(), candidate.end());

@@ -1,0 +1,77 @@
+// The one Dreyfus–Wagner kernel of the seam: the exact minimum tree joining groups of vertices
+// (ports) on an edge graph, under the full-component rules of the skeleton seam (terminals
+// stay leaves). Used for the exact seam (optimal_seam, every terminal a port) and for the
+// local re-optimisation of refine_tree (every loose subtree a port).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/paths/geodesic.h"
+
+namespace seam::core {
+
+/// A group Steiner problem on `graph` (any EdgeGraph: the mesh's or a region's, whose
+/// `halfedge` entries are only carried through to the answer). Per vertex:
+/// - `port_mask`: the ports (bits 0..ports-1) the vertex belongs to; a tree joins port q at
+///   any vertex with bit q;
+/// - `obstacle`: nonzero where no path passes and no paths meet, except for the ports the
+///   partial tree already holds (a loose subtree may be passed along or joined anywhere);
+/// - `leaf_only`: nonzero for terminals: never passed through nor a meeting point (a
+///   terminal port is joined only as a leaf). A leaf-only vertex must also be an obstacle.
+struct GroupSteinerProblem {
+  std::size_t ports = 0;  ///< 1..30
+  std::span<const std::uint32_t> port_mask;
+  std::span<const std::uint8_t> obstacle;
+  std::span<const std::uint8_t> leaf_only;
+  /// Valid: the tree must also reach this vertex (a leaf-only non-port, e.g. the last
+  /// terminal), which saves the table half its rows. Invalid: the tree may end anywhere.
+  VertexId root;
+  /// Only trees cheaper than this are looked for; states that cannot lead to one (their value
+  /// plus a lower bound on the rest: the largest distance to a port still to join, computed
+  /// with every loose subtree passable) are dropped, which leaves the answer unchanged.
+  double bound = std::numeric_limits<double>::infinity();
+};
+
+struct GroupSteinerTree {
+  double cost = std::numeric_limits<double>::infinity();  ///< infinite: no tree (below the bound)
+  std::vector<HalfedgeId> halfedges;  ///< graph.halfedge of the tree's edges (any order)
+};
+
+/// A reusable workspace (its tables are kept between solves). Not thread-safe.
+class DreyfusWagner {
+ public:
+  /// Dreyfus–Wagner over the 2^ports port subsets: merge rows at meeting points, then grow
+  /// each row by a multi-source Dijkstra. Ties by vertex id; deterministic.
+  /// Preconditions (SEAM_ASSERT): the spans have graph.num_vertices() entries, 1 <= ports <= 30.
+  /// Errors: kCancelled. Memory: 2^ports x V x 12 bytes (the caller caps it).
+  /// Complexity: O(3^p V + 2^p E log V), p = ports.
+  Result<GroupSteinerTree> solve(const EdgeGraph& graph, const GroupSteinerProblem& problem,
+                                 const CancelToken& cancel = CancelToken::none());
+
+ private:
+  using Entry = std::pair<double, std::uint32_t>;
+  Status grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, double* row,
+              std::uint32_t* back, const double* lower, const CancelToken& cancel);
+  Status distance_row(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t seeds_mask,
+                      VertexId seed, bool relaxed, double* row, std::uint32_t* back, const CancelToken& cancel);
+  void merge(const GroupSteinerProblem& problem, std::uint32_t s, std::size_t n, double* row, std::uint32_t* back);
+  std::vector<HalfedgeId> trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const;
+
+  std::vector<double> dp_;
+  std::vector<std::uint32_t> back_;    // slot of the last edge, kMerge | split, or kNone at a seed
+  std::vector<double> relaxed_;        // per port: distances with every loose subtree passable
+  std::vector<double> root_row_;
+  std::vector<double> lower_;
+  std::vector<std::uint32_t> scratch_;
+  std::vector<std::uint32_t> restricted_;  // obstacles: reset after each merge
+  std::vector<Entry> seeds_;
+  std::vector<Entry> heap_;
+  std::uint32_t polls_ = 0;
+};
+
+}  // namespace seam::core
