@@ -1,9 +1,12 @@
-// A test oracle independent of the seam code: is an edge set a full-component Steiner tree?
+// Test oracles independent of the seam code: is an edge set a full-component Steiner tree,
+// and the MST weight of a complete graph.
 #pragma once
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <functional>
 #include <map>
 #include <set>
@@ -50,6 +53,25 @@ inline double full_component_length(const HalfedgeMesh& mesh, const std::vector<
     if (!is_terminal.count(v)) CHECK_MESSAGE(d >= 2, "dangling vertex " << v);
   }
   return length;
+}
+
+// Prim's algorithm on the complete graph of k nodes weighted by dist: the MST weight, an
+// independent reference for Kruskal's.
+inline double prim_mst_weight(std::size_t k, const std::function<double(std::size_t, std::size_t)>& dist) {
+  std::vector<double> best(k, std::numeric_limits<double>::infinity());
+  std::vector<bool> in(k, false);
+  best[0] = 0.0;
+  double total = 0.0;
+  for (std::size_t step = 0; step < k; ++step) {
+    std::size_t u = k;
+    for (std::size_t v = 0; v < k; ++v) {
+      if (!in[v] && (u == k || best[v] < best[u])) u = v;
+    }
+    in[u] = true;
+    total += best[u];
+    for (std::size_t v = 0; v < k; ++v) best[v] = std::min(best[v], dist(u, v));
+  }
+  return total;
 }
 
 }  // namespace seam::test_oracle

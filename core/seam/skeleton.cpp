@@ -137,7 +137,9 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
     }
     return straight;
   };
-  auto straight = paper();
+  auto straight = options.paper_steps ? paper()
+                                      : Result<TreeTopology>(make_error(ErrorCode::kInvalidArgument,
+                                                                        "the paper's steps were switched off"));
   if (!straight.ok()) {
     if (straight.error().code == ErrorCode::kCancelled) return straight.take_error();
     tr.fallback = true;

@@ -19,6 +19,9 @@ struct SkeletonOptions {
   /// After §4.4 and the refinement, move whole branches by key-path exchange
   /// and key-vertex elimination (core/seam/improve.h) while every terminal stays a leaf.
   bool improve = true;
+  /// false: skip the paper's three steps and start from the terminal-avoiding star tree, the
+  /// fallback used where those steps fail on a degenerate input (for tests and benchmarks).
+  bool paper_steps = true;
 };
 
 struct SkeletonStats {

@@ -99,3 +99,61 @@ TEST_CASE("refine_tree refuses a tree whose terminal is not a leaf") {
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == ErrorCode::kInvalidArgument);
 }
+
+TEST_CASE("refine_tree equals the exact optimum when one piece holds the whole tree (3-4 terminals)") {
+  // With 3 terminals the one Steiner point, and with 4 the two adjacent ones, make a piece
+  // whose branches are the whole tree; with a reach that cuts them entirely and a region that
+  // is the whole mesh, the local problem is the global one, so the result must be the
+  // Dreyfus-Wagner optimum (an independent solve on the whole graph).
+  const auto sphere = fx::icosphere(3);
+  const HalfedgeMesh mesh = build_halfedge_mesh(sphere.positions, sphere.triangles).value();
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(7);
+  int whole_pieces = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const auto terminals = random_terminals(mesh, 3 + static_cast<std::size_t>(trial % 2), rng);
+    CAPTURE(trial);
+    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
+    REQUIRE(paths.ok());
+    auto skeleton = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false});
+    REQUIRE(skeleton.ok());
+    // Only trees with the full topology (k - 2 Steiner points of degree 3) are one piece.
+    if (skeleton->tree.steiner_points.size() + 2 != terminals.size()) continue;
+    ++whole_pieces;
+    const RefineOptions options{.max_ports = 5, .max_region = mesh.num_vertices(), .max_work = SIZE_MAX, .reach = 100.0};
+    auto refined = refine_tree(mesh, graph, {}, terminals, skeleton->tree.edges, options);
+    REQUIRE(refined.ok());
+    auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+    REQUIRE(optimal.ok());
+    CHECK(full_component_length(mesh, *refined, terminals) == doctest::Approx(optimal->length).epsilon(1e-9));
+  }
+  CHECK(whole_pieces >= 4);
+}
+
+TEST_CASE("the forced star-tree fallback: flagged, a full component, refined and moved towards the optimum") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 4; ++trial) {
+    const auto terminals = random_terminals(mesh, 4 + static_cast<std::size_t>(trial), rng);
+    CAPTURE(trial);
+    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
+    REQUIRE(paths.ok());
+    auto plain = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false, .paper_steps = false});
+    auto refined = skeleton_seam(mesh, graph, {}, *paths, {.refine = true, .improve = true, .paper_steps = false});
+    REQUIRE(plain.ok());
+    REQUIRE(refined.ok());
+    CHECK(plain->stats.fallback);
+    CHECK(refined->stats.fallback);
+    // The star tree as returned is star_tree's, and a full component.
+    auto star = star_tree(mesh, graph, terminals);
+    REQUIRE(star.ok());
+    const double star_length = full_component_length(mesh, *star, terminals);
+    CHECK(full_component_length(mesh, plain->tree.edges, terminals) == doctest::Approx(star_length));
+    const double after = full_component_length(mesh, refined->tree.edges, terminals);
+    CHECK(after <= star_length + 1e-12);
+    auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+    REQUIRE(optimal.ok());
+    CHECK(optimal->length <= after + 1e-9);
+  }
+}

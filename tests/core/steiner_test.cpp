@@ -1,10 +1,8 @@
 #include <doctest/doctest.h>
 
-#include <functional>
-#include <limits>
-
 #include "core/paths/steiner.h"
 #include "fixtures.h"
+#include "tree_oracle.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
@@ -52,26 +50,6 @@ TEST_CASE("terminal paths: symmetric, consistent with Dijkstra, independent of t
   }
 }
 
-namespace {
-// Prim's MST weight on the complete graph of `dist` (an independent oracle for Kruskal).
-double prim_weight(std::size_t k, const std::function<double(std::size_t, std::size_t)>& dist) {
-  std::vector<double> best(k, std::numeric_limits<double>::infinity());
-  std::vector<bool> in(k, false);
-  best[0] = 0.0;
-  double total = 0.0;
-  for (std::size_t step = 0; step < k; ++step) {
-    std::size_t u = k;
-    for (std::size_t v = 0; v < k; ++v) {
-      if (!in[v] && (u == k || best[v] < best[u])) u = v;
-    }
-    in[u] = true;
-    total += best[u];
-    for (std::size_t v = 0; v < k; ++v) best[v] = std::min(best[v], dist(u, v));
-  }
-  return total;
-}
-}  // namespace
-
 TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of the distance graph") {
   const HalfedgeMesh mesh = sphere();
   // Uneven weights, so ties are rare and Voronoi regions are not round.
@@ -92,7 +70,7 @@ TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of 
     double mst_weight = 0.0;
     for (const auto& [i, j] : lazy->mst) mst_weight += lazy->dist(i, j);
     CHECK(lazy->searches() == 0);  // the MST pairs come from the one multi-source search
-    const double oracle = prim_weight(k, [&](std::size_t i, std::size_t j) { return full->dist(i, j); });
+    const double oracle = seam::test_oracle::prim_mst_weight(k, [&](std::size_t i, std::size_t j) { return full->dist(i, j); });
     CHECK(mst_weight == doctest::Approx(oracle).epsilon(1e-12));
     for (std::size_t i = 0; i < k; ++i) {
       for (std::size_t j = 0; j < k; ++j) {

@@ -8,6 +8,7 @@
 #include "core/seam/tour.h"
 #include "fixtures.h"
 #include "skeleton_fixtures.h"
+#include "tree_oracle.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
@@ -32,21 +33,7 @@ Setup spiky(int spikes, int levels = 3) {
 
 // Prim's algorithm on the complete terminal graph: the reference MST weight.
 double prim_weight(const TerminalPaths& paths) {
-  const std::size_t k = paths.size();
-  std::vector<double> best(k, ShortestPathTree::kUnreached);
-  std::vector<bool> in(k, false);
-  best[0] = 0;
-  double total = 0;
-  for (std::size_t round = 0; round < k; ++round) {
-    std::size_t u = k;
-    for (std::size_t v = 0; v < k; ++v) {
-      if (!in[v] && (u == k || best[v] < best[u])) u = v;
-    }
-    in[u] = true;
-    total += best[u];
-    for (std::size_t v = 0; v < k; ++v) best[v] = std::min(best[v], paths.dist(u, v));
-  }
-  return total;
+  return seam::test_oracle::prim_mst_weight(paths.size(), [&](std::size_t u, std::size_t v) { return paths.dist(u, v); });
 }
 
 void check_contiguous_closed(const HalfedgeMesh& mesh, const std::vector<HalfedgeId>& walk) {
