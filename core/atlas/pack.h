@@ -38,8 +38,9 @@ struct ChartPlacement {
   double scale = 1;
   double angle = 0;  ///< radians, counter-clockwise
   Vec2 offset = Vec2::Zero();
-  Vec2 rect_min = Vec2::Zero();  ///< the chart's (rotated minimal) rectangle in the atlas; the
-  Vec2 rect_max = Vec2::Zero();  ///< chart lies inside. Rectangles of nested charts may overlap.
+  Vec2 rect_min = Vec2::Zero();  ///< the chart's rectangle in the atlas (its rotated minimal
+  Vec2 rect_max = Vec2::Zero();  ///< one, or its bounding box as placed); the chart lies inside.
+                                 ///< Rectangles of nested charts may overlap.
   Vec2 apply(const Vec2& uv) const {
     const double c = std::cos(angle);
     const double s = std::sin(angle);
@@ -50,8 +51,9 @@ struct ChartPlacement {
 struct PackResult {
   std::vector<ChartPlacement> placements;  ///< one per input chart, in input order
   double coverage = 0;       ///< total chart UV area in the atlas / atlas area (1)
-  double rect_fill = 0;      ///< total chart UV area / total minimal-rectangle area (the coverage
-                             ///< a perfect rectangle packer without margins would reach)
+  double rect_fill = 0;      ///< total chart UV area / total area of the charts' rectangles as
+                             ///< placed (for rectangle-packed charts, the coverage a perfect
+                             ///< rectangle packer without margins would reach)
   /// Texels per unit of 3D length (texture_size * sqrt(UV area / surface area)), equal for all
   /// charts; density_ratio is max/min of the per-chart values as placed (1 up to rounding).
   double texel_density = 0;
@@ -62,23 +64,31 @@ struct PackResult {
 /// Packs `charts` into [0,1]^2. Each chart is scaled so UV area / surface area is the same for
 /// all (one texel density), rotated (options.rotate) so that the minimal-area rectangle around
 /// its convex hull (over the hull's edge directions, Freeman & Shapira 1975) is axis-aligned
-/// and wider than tall. Two packers then look for the smallest square, each by bisection on
-/// its side: (1) the rectangles grown by the margin, skyline bottom-left (each tried upright
-/// and turned 90 degrees with rotate; three size orders; charts longer than half the square
+/// and wider than tall. Three packers then look for the smallest square: (1) the rectangles
+/// grown by the margin, skyline bottom-left, by bisection on the side (each tried upright and
+/// turned 90 degrees with rotate; three size orders; charts longer than half the square
 /// retried at the rotation that minimises their longer side, so a long strip lies diagonally);
 /// (2) for at most 256 charts, the charts themselves dropped by their column profiles onto a
 /// skyline of 256 columns in four quarter turns (profile_pack.h), so a concave chart's
-/// underside nests over the charts below. The smaller square wins; it becomes [0,1]^2.
-/// Deterministic (ties by input order). Any two charts are at least margin_px texels apart at
-/// texture_size (their points differ by that much along x or y) and margin_px/2 from the
-/// border; with margin_px = 0 they are still 1e-6 of the atlas apart, so they never touch.
+/// underside nests over the charts below; (3) for at most 256 charts, the charts' shapes on a
+/// grid of 512 x 512 cells (raster_pack.h, as xatlas does): each chart, largest surface first,
+/// rasterized conservatively in 20 orientations (quarter turns of its minimal rectangle with
+/// three steps between them, and of its smallest enclosing square; 12 above 16 charts, 8
+/// above 64) and put where the square around the placed charts stays smallest, so charts
+/// interlock and small charts fill the holes of big ones. The smallest square wins; it is
+/// scaled to [0,1]^2. Deterministic (ties by input order). Any two charts are at least
+/// margin_px texels apart at texture_size (their points differ by that much along x or y)
+/// and margin_px/2 from the border; with margin_px = 0 they are still 1e-6 of the atlas apart,
+/// so they never touch.
 /// Errors: kInvalidArgument (options out of range, a chart with no triangles, non-positive or
 /// non-finite surface_area, or zero UV area; the message names the chart), kIndexOutOfRange
 /// (a triangle names a missing UV), kNonFinitePosition (a UV is NaN or infinite), kCancelled.
 /// Complexity: O(sum of H_i^2) for the rectangles (H_i hull sizes); packer (1) about 40
 /// passes of O(n * S) (S skyline segments <= n + 1), O(n^2) worst; packer (2) about 20 passes
-/// of O(n * 4 * (256 * W + B)) for W columns per chart and B boundary edges. 1,000 charts:
-/// ~50 ms (bench/atlas_bench.cpp).
+/// of O(n * 4 * (256 * W + B)) for W columns per chart and B boundary edges; packer (3)
+/// O(orientations * (T + 512^2 / 8)) per chart to rasterize (T triangles) plus the positions
+/// tried, which skip runs of full cells. 1,000 charts: ~50 ms; 4 organic charts of 10^4-10^5
+/// triangles: ~0.1 s (bench/atlas_bench.cpp).
 Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options = {},
                                const CancelToken& cancel = CancelToken::none());
 
