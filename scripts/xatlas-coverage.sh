@@ -32,7 +32,9 @@ fi
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 echo "xatlas-coverage: $(uptime)"
-SEAMD="$seamd" XATLAS="$XATLAS_BIN" WORK="$work" ROOT="$here" ATLAS_BENCH="${ATLAS_BENCH:-}" python3 - <<'PY'
+atlas_bench="${ATLAS_BENCH:-}"
+[[ -n "$atlas_bench" ]] && atlas_bench="$(realpath "$atlas_bench")"  # it runs from the repo root
+SEAMD="$seamd" XATLAS="$XATLAS_BIN" WORK="$work" ROOT="$here" ATLAS_BENCH="$atlas_bench" python3 - <<'PY'
 import json, os, re, subprocess, sys
 
 env = os.environ
