@@ -1,6 +1,7 @@
 #include "core/paths/dreyfus_wagner.h"
 
 #include <algorithm>
+#include <bit>
 #include <functional>
 
 namespace seam::core {
@@ -15,30 +16,56 @@ bool singleton(std::uint32_t s) { return (s & (s - 1)) == 0; }
 
 }  // namespace
 
-// A row grown along shortest paths: a multi-source Dijkstra seeded with the whole row. After
-// merging nearly every vertex is a seed, so the seeds are sorted once and streamed in order
-// alongside a heap that only holds improvements, instead of pushing V entries per subset.
-// With `lower` (a lower bound per vertex on what the rest of any tree through it costs),
-// states whose value plus it reaches the bound are dropped: a tree cheaper than the bound
-// never needs them (A*-like pruning, exact).
-Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, double* row,
-                           std::uint32_t* back, const double* lower, const CancelToken& cancel) {
-  const std::size_t n = graph.num_vertices();
+void DreyfusWagner::Rows::reset(std::size_t rows, std::size_t n) {
+  for (std::size_t r = 0; r < finite.size(); ++r) {
+    for (std::uint32_t v : finite[r]) {
+      value[r * stride + v] = kInf;
+      back[r * stride + v] = kNone;
+    }
+    finite[r].clear();
+  }
+  if (rows * n > value.size()) {
+    value.resize(rows * n, kInf);
+    back.resize(rows * n, kNone);
+  }
+  finite.resize(rows);
+  stride = n;
+}
+
+struct DreyfusWagner::LowerBound {
+  std::vector<const double*> rows;  // distance rows of the ports still to join (and the root's)
+  double at(std::uint32_t v) const {
+    double lower = 0.0;
+    for (const double* r : rows) lower = std::max(lower, r[v]);
+    return lower;
+  }
+};
+
+// A row grown along shortest paths: a multi-source Dijkstra seeded with the row's finite
+// entries. After merging many vertices are seeds, so the seeds are sorted once and streamed
+// in order alongside a heap that only holds improvements. With `lower` (a lower bound per
+// vertex on what the rest of any tree through it costs), states whose value plus it reaches
+// the bound are dropped: a tree cheaper than the bound never needs them (A*-like, exact).
+Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, Rows& rows,
+                           std::uint32_t r, const LowerBound* lower, const CancelToken& cancel) {
+  double* row = rows.value.data() + static_cast<std::size_t>(r) * rows.stride;
+  std::uint32_t* back = rows.back.data() + static_cast<std::size_t>(r) * rows.stride;
   const double bound = problem.bound;
-  auto beyond = [&](std::size_t v, double d) { return lower ? d + lower[v] >= bound : d >= bound; };
+  auto beyond = [&](std::uint32_t v, double d) { return lower ? d + lower->at(v) >= bound : d >= bound; };
   auto expandable = [&](std::uint32_t v) {
     if (!problem.obstacle[v]) return true;
     return (problem.port_mask[v] & s) != 0 && (!problem.leaf_only[v] || singleton(s));
   };
   seeds_.clear();
-  for (std::size_t v = 0; v < n; ++v) {
-    if (row[v] == kInf) continue;
+  reached_.clear();
+  for (std::uint32_t v : rows.finite[r]) {
     if (beyond(v, row[v])) {
       row[v] = kInf;
       back[v] = kNone;
       continue;
     }
-    seeds_.emplace_back(row[v], static_cast<std::uint32_t>(v));
+    seeds_.emplace_back(row[v], v);
+    reached_.push_back(v);
   }
   std::sort(seeds_.begin(), seeds_.end());
   std::size_t next_seed = 0;
@@ -59,6 +86,7 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
       const std::uint32_t w = graph.head[slot].value();
       const double nd = d + graph.weight[slot];
       if (nd < row[w] && !beyond(w, nd)) {
+        if (row[w] == kInf) reached_.push_back(w);
         row[w] = nd;
         back[w] = slot;
         heap_.emplace_back(nd, w);
@@ -66,70 +94,89 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
       }
     }
   }
+  rows.finite[r].swap(reached_);
   return Ok{};
 }
 
-// Distances from the vertices of the ports in `seeds_mask` (or from `seed`), bounded by the
-// problem's bound. `relaxed`: every loose subtree is passable (only terminals block), which
-// makes the row a lower bound on any tree path to the port.
-Status DreyfusWagner::distance_row(const EdgeGraph& graph, const GroupSteinerProblem& problem,
-                                   std::uint32_t seeds_mask, VertexId seed, bool relaxed, double* row,
-                                   std::uint32_t* back, const CancelToken& cancel) {
+// The singleton rows (distances from each port, bounded by the problem's bound) and, for a
+// bounded problem, the lower bounds' rows: where loose subtrees could be passed, distances
+// with every one of them passable (only terminals other than the seeds block), which bound
+// any tree path to the port from below; and the root's distances.
+Status DreyfusWagner::distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem,
+                                    const CancelToken& cancel) {
   const std::size_t n = graph.num_vertices();
-  std::fill(row, row + n, kInf);
-  std::fill(back, back + n, kNone);
-  for (std::size_t v = 0; v < n; ++v) {
-    if (problem.port_mask[v] & seeds_mask) row[v] = 0.0;
+  const std::size_t p = problem.ports;
+  for (std::size_t q = 0; q < p; ++q) {
+    const std::uint32_t s = std::uint32_t{1} << q;
+    for (std::uint32_t v : port_vertices_[q]) table_.value[s * n + v] = 0.0;
+    table_.finite[s] = port_vertices_[q];
+    if (auto st = grow(graph, problem, s, table_, s, nullptr, cancel); !st.ok()) return st.take_error();
   }
-  if (seed.valid()) row[seed.index()] = 0.0;
-  if (!relaxed && !seed.valid()) return grow(graph, problem, seeds_mask, row, back, nullptr, cancel);
-  // Relaxed (or rooted) rows: a problem whose obstacles are its leaf-only vertices and whose
-  // seeds count as its single port, so only terminals other than the seeds block.
-  scratch_.assign(n, 0);
-  std::vector<std::uint8_t> leaf(problem.leaf_only.begin(), problem.leaf_only.end());
-  for (std::size_t v = 0; v < n; ++v) {
-    if (row[v] == 0.0) scratch_[v] = 1, leaf[v] = 0;
-  }
+  if (problem.bound == kInf) return Ok{};
+  bool passable = false;  // obstacles that are loose subtrees, not only terminals
+  for (std::size_t v = 0; v < n && !passable; ++v) passable = problem.obstacle[v] && !problem.leaf_only[v];
+  // Where only terminals block, each singleton row is its own relaxed row.
+  lower_from_table_ = !passable;
+  relaxed_.reset(p + 1, n);
+  if (!passable && !problem.root.valid()) return Ok{};
+  seed_mask_.assign(n, 0);
+  seed_blocks_.assign(problem.leaf_only.begin(), problem.leaf_only.end());
   GroupSteinerProblem open = problem;
-  open.port_mask = scratch_;
-  open.obstacle = leaf;
-  open.leaf_only = leaf;
-  return grow(graph, open, 1u, row, back, nullptr, cancel);
+  open.port_mask = seed_mask_;
+  open.obstacle = seed_blocks_;
+  open.leaf_only = seed_blocks_;
+  auto relaxed_row = [&](std::size_t r, std::span<const std::uint32_t> seeds) -> Status {
+    for (std::uint32_t v : seeds) seed_mask_[v] = 1, seed_blocks_[v] = 0, relaxed_.value[r * n + v] = 0.0;
+    relaxed_.finite[r].assign(seeds.begin(), seeds.end());
+    auto st = grow(graph, open, 1u, relaxed_, static_cast<std::uint32_t>(r), nullptr, cancel);
+    for (std::uint32_t v : seeds) seed_mask_[v] = 0, seed_blocks_[v] = problem.leaf_only[v];
+    return st;
+  };
+  for (std::size_t q = 0; q < p && passable; ++q) {
+    if (auto st = relaxed_row(q, port_vertices_[q]); !st.ok()) return st.take_error();
+  }
+  if (problem.root.valid()) {
+    const std::uint32_t root[] = {problem.root.value()};
+    if (auto st = relaxed_row(p, root); !st.ok()) return st.take_error();
+  }
+  return Ok{};
 }
 
-void DreyfusWagner::merge(const GroupSteinerProblem& problem, std::uint32_t s, std::size_t n, double* row,
-                          std::uint32_t* back) {
+void DreyfusWagner::merge(const GroupSteinerProblem& problem, std::uint32_t s) {
+  const std::size_t n = table_.stride;
+  double* row = table_.value.data() + static_cast<std::size_t>(s) * n;
+  std::uint32_t* back = table_.back.data() + static_cast<std::size_t>(s) * n;
+  auto& list = table_.finite[s];
+  // Partial trees meet only at free vertices and at vertices of ports they already hold.
+  auto meeting_point = [&](std::uint32_t v) {
+    return !problem.obstacle[v] || (!problem.leaf_only[v] && (problem.port_mask[v] & s) != 0);
+  };
   // Each unordered split {a, s \ a} once: a holds s's lowest port.
   const std::uint32_t low = s & (~s + 1);
   for (std::uint32_t a = (s - 1) & s; a > 0; a = (a - 1) & s) {
     if (!(a & low)) continue;
-    const double* ra = dp_.data() + static_cast<std::size_t>(a) * n;
-    const double* rb = dp_.data() + static_cast<std::size_t>(s ^ a) * n;
-    for (std::size_t v = 0; v < n; ++v) {
+    const std::uint32_t b = s ^ a;
+    const double* ra = table_.value.data() + static_cast<std::size_t>(a) * n;
+    const double* rb = table_.value.data() + static_cast<std::size_t>(b) * n;
+    const auto& walk = table_.finite[a].size() <= table_.finite[b].size() ? table_.finite[a] : table_.finite[b];
+    for (std::uint32_t v : walk) {
       const double value = ra[v] + rb[v];
-      if (value < row[v]) {
-        row[v] = value;
-        back[v] = kMerge | a;
-      }
-    }
-  }
-  // Partial trees meet only at free vertices and at vertices of ports they already hold.
-  for (std::uint32_t v : restricted_) {
-    if (problem.leaf_only[v] || (problem.port_mask[v] & s) == 0) {
-      row[v] = kInf;
-      back[v] = kNone;
+      if (!(value < row[v]) || !meeting_point(v)) continue;
+      if (row[v] == kInf) list.push_back(v);
+      row[v] = value;
+      back[v] = kMerge | a;
     }
   }
 }
 
 std::vector<HalfedgeId> DreyfusWagner::trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const {
-  const std::size_t n = graph.num_vertices();
+  const std::size_t n = table_.stride;
   std::vector<HalfedgeId> out;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{full, root}};
   while (!stack.empty()) {
     const auto [s, v] = stack.back();
     stack.pop_back();
-    const std::uint32_t b = back_[static_cast<std::size_t>(s) * n + v];
+    const std::uint32_t b = table_.back[static_cast<std::size_t>(s) * n + v];
     if (b == kNone) continue;  // a seed
     if (b & kMerge) {
       stack.emplace_back(b & ~kMerge, v);
@@ -151,77 +198,45 @@ Result<GroupSteinerTree> DreyfusWagner::solve(const EdgeGraph& graph, const Grou
   SEAM_ASSERT(problem.port_mask.size() == n && problem.obstacle.size() == n && problem.leaf_only.size() == n);
   const auto rows = std::uint32_t{1} << p;
   const std::uint32_t full = rows - 1;
-  dp_.assign(static_cast<std::size_t>(rows) * n, kInf);
-  back_.assign(static_cast<std::size_t>(rows) * n, kNone);
-  restricted_.clear();
-  bool passable_obstacles = false;  // loose subtrees, not only terminals
-  for (std::size_t v = 0; v < n; ++v) {
-    if (!problem.obstacle[v]) continue;
-    restricted_.push_back(static_cast<std::uint32_t>(v));
-    if (!problem.leaf_only[v]) passable_obstacles = true;
-  }
-  auto row_of = [&](std::uint32_t s) { return dp_.data() + static_cast<std::size_t>(s) * n; };
-  auto back_of = [&](std::uint32_t s) { return back_.data() + static_cast<std::size_t>(s) * n; };
-  // Singleton rows first: with a bound they (or, where loose subtrees could be passed, their
-  // relaxed versions) give the lower bound for every later row.
-  for (std::size_t q = 0; q < p; ++q) {
-    const std::uint32_t s = std::uint32_t{1} << q;
-    if (auto st = distance_row(graph, problem, s, VertexId(), false, row_of(s), back_of(s), cancel); !st.ok()) {
-      return st.take_error();
+  table_.reset(rows, n);
+  port_vertices_.assign(p, {});
+  for (std::uint32_t v = 0; v < n; ++v) {
+    for (std::uint32_t m = problem.port_mask[v]; m != 0; m &= m - 1) {
+      port_vertices_[static_cast<std::size_t>(std::countr_zero(m))].push_back(v);
     }
   }
+  if (auto st = distance_rows(graph, problem, cancel); !st.ok()) return st.take_error();
   const bool bounded = problem.bound < kInf;
-  relaxed_.clear();
-  root_row_.clear();
-  if (bounded && passable_obstacles) {
-    relaxed_.resize(p * n);
-    scratch_.resize(n);
-    std::vector<std::uint32_t> unused(n);
-    for (std::size_t q = 0; q < p; ++q) {
-      if (auto st = distance_row(graph, problem, std::uint32_t{1} << q, VertexId(), true, relaxed_.data() + q * n,
-                                 unused.data(), cancel);
-          !st.ok()) {
-        return st.take_error();
-      }
-    }
-  }
-  if (bounded && problem.root.valid()) {
-    root_row_.resize(n);
-    std::vector<std::uint32_t> unused(n);
-    if (auto st = distance_row(graph, problem, 0, problem.root, true, root_row_.data(), unused.data(), cancel);
-        !st.ok()) {
-      return st.take_error();
-    }
-  }
+  LowerBound lower;
   for (std::uint32_t s = 1; s < rows; ++s) {
     if (singleton(s)) continue;
-    merge(problem, s, n, row_of(s), back_of(s));
-    const double* lower = nullptr;
+    merge(problem, s);
     if (bounded) {
-      lower_.assign(n, 0.0);
-      if (!root_row_.empty()) lower_ = root_row_;
+      lower.rows.clear();
+      if (problem.root.valid()) lower.rows.push_back(relaxed_.value.data() + p * n);
       for (std::size_t q = 0; q < p; ++q) {
         if (s & (std::uint32_t{1} << q)) continue;
-        const double* rq = relaxed_.empty() ? row_of(std::uint32_t{1} << q) : relaxed_.data() + q * n;
-        for (std::size_t v = 0; v < n; ++v) lower_[v] = std::max(lower_[v], rq[v]);
+        lower.rows.push_back(lower_from_table_ ? table_.value.data() + (std::size_t{1} << q) * n
+                                               : relaxed_.value.data() + q * n);
       }
-      lower = lower_.data();
     }
-    if (auto st = grow(graph, problem, s, row_of(s), back_of(s), lower, cancel); !st.ok()) return st.take_error();
+    if (auto st = grow(graph, problem, s, table_, s, bounded ? &lower : nullptr, cancel); !st.ok()) {
+      return st.take_error();
+    }
   }
   GroupSteinerTree tree;
-  std::size_t root = n;
-  const double* last = row_of(full);
+  const double* last = table_.value.data() + static_cast<std::size_t>(full) * n;
+  std::uint32_t root = kNone;
   if (problem.root.valid()) {
-    if (last[problem.root.index()] < kInf) root = problem.root.index();
+    if (last[problem.root.index()] < kInf) root = problem.root.value();
   } else {
-    for (std::size_t v = 0; v < n; ++v) {
-      if (last[v] < kInf && (root == n || last[v] < last[root])) root = v;
+    for (std::uint32_t v : table_.finite[full]) {
+      if (root == kNone || last[v] < last[root] || (last[v] == last[root] && v < root)) root = v;
     }
   }
-  if (root == n) return tree;
+  if (root == kNone) return tree;
   tree.cost = last[root];
-  tree.halfedges = trace(graph, full, static_cast<std::uint32_t>(root));
+  tree.halfedges = trace(graph, full, root);
   return tree;
 }
 

@@ -55,22 +55,31 @@ class DreyfusWagner {
 
  private:
   using Entry = std::pair<double, std::uint32_t>;
-  Status grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, double* row,
-              std::uint32_t* back, const double* lower, const CancelToken& cancel);
-  Status distance_row(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t seeds_mask,
-                      VertexId seed, bool relaxed, double* row, std::uint32_t* back, const CancelToken& cancel);
-  void merge(const GroupSteinerProblem& problem, std::uint32_t s, std::size_t n, double* row, std::uint32_t* back);
+  // The rows are sparse: a bounded problem leaves most states infinite, so every row keeps
+  // the list of its finite entries and all work (merging, growing, resetting) walks lists.
+  struct Rows {
+    std::vector<double> value;                 // row-major, stride = vertex count; kInf off the lists
+    std::vector<std::uint32_t> back;           // slot of the last edge, kMerge | split, kNone at a seed
+    std::vector<std::vector<std::uint32_t>> finite;  // per row: its finite entries
+    std::size_t stride = 0;
+    void reset(std::size_t rows, std::size_t n);  // O(previous finite entries) + growth
+  };
+  struct LowerBound;  // the largest distance to a port the row still has to join
+  Status grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, Rows& rows,
+              std::uint32_t row, const LowerBound* lower, const CancelToken& cancel);
+  Status distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, const CancelToken& cancel);
+  void merge(const GroupSteinerProblem& problem, std::uint32_t s);
   std::vector<HalfedgeId> trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const;
 
-  std::vector<double> dp_;
-  std::vector<std::uint32_t> back_;    // slot of the last edge, kMerge | split, or kNone at a seed
-  std::vector<double> relaxed_;        // per port: distances with every loose subtree passable
-  std::vector<double> root_row_;
-  std::vector<double> lower_;
-  std::vector<std::uint32_t> scratch_;
-  std::vector<std::uint32_t> restricted_;  // obstacles: reset after each merge
+  Rows table_;    // row s: the subset s of ports
+  Rows relaxed_;  // row q: distances to port q with every loose subtree passable; row p: the root's
+  std::vector<std::vector<std::uint32_t>> port_vertices_;
+  std::vector<std::uint32_t> seed_mask_;       // the relaxed rows' problem: its seeds as port 0
+  std::vector<std::uint8_t> seed_blocks_;      // ... and only terminals other than its seeds block
   std::vector<Entry> seeds_;
   std::vector<Entry> heap_;
+  std::vector<std::uint32_t> reached_;
+  bool lower_from_table_ = false;  // the singleton rows serve as the relaxed rows
   std::uint32_t polls_ = 0;
 };
 

@@ -1,6 +1,8 @@
 #include "core/seam/refine.h"
 
 #include <algorithm>
+#include <bit>
+#include <unordered_set>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -71,6 +73,22 @@ class LocalSteiner {
   DreyfusWagner kernel_;
 };
 
+// A 64-bit fingerprint of a local problem (its region in search order, each vertex's obstacle
+// flag and port mask, and the length to beat); terminals are obstacles without a port, so
+// they are covered. A collision can only skip a piece, never make the tree longer.
+std::uint64_t problem_key(std::span<const VertexId> region, const std::vector<std::uint8_t>& obstacle,
+                          const std::vector<std::uint32_t>& port_mask, double bound) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ull ^ std::bit_cast<std::uint64_t>(bound);
+  auto mix = [&h](std::uint64_t x) {
+    h ^= x + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdull;
+  };
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    mix((std::uint64_t{region[i].value()} << 32) | (std::uint64_t{port_mask[i]} << 1) | obstacle[i]);
+  }
+  return h;
+}
+
 double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights, std::span<const EdgeId> edges) {
   double total = 0.0;
   for (EdgeId e : edges) total += weight_of(mesh, edge_weights, e);
@@ -104,6 +122,7 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
   std::uint32_t stamp = 0;
   std::vector<std::uint8_t> in_rest(nv, 0);
   std::size_t work = 0;  // region vertices times port subsets solved so far
+  std::unordered_set<std::uint64_t> no_gain;  // problem_key of local problems with no cheaper tree
 
   for (int pass = 0; pass < options.max_passes; ++pass) {
     bool improved = false;
@@ -235,11 +254,21 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
         }
       }
       for (VertexId v : rest_vertices) in_rest[v.index()] = 0;
+      // The same local problem (region, obstacles, ports, length to beat) that had no
+      // cheaper tree before has none now: later passes only solve pieces near a change.
+      const std::uint64_t key = problem_key(region, obstacle, port_mask, removed_length);
+      if (no_gain.count(key)) {
+        ++st.pieces_reused;
+        continue;
+      }
       work += region.size() << ports.size();
       if (work > options.max_work) break;
       auto joined = solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, cancel);
       if (!joined.ok()) return joined.take_error();
-      if (!(joined->cost < removed_length - 1e-9 * (1.0 + removed_length))) continue;
+      if (!(joined->cost < removed_length - 1e-9 * (1.0 + removed_length))) {
+        no_gain.insert(key);
+        continue;
+      }
       std::vector<EdgeId> joining;
       for (HalfedgeId h : joined->halfedges) joining.push_back(HalfedgeMesh::edge(h));
       std::vector<EdgeId> candidate = rest;

@@ -34,6 +34,7 @@ struct RefineOptions {
 struct RefineStats {
   std::size_t pieces_tried = 0;
   std::size_t improvements = 0;
+  std::size_t pieces_reused = 0;  ///< not solved again: the same local problem had no gain before
   double length_before = 0;
   double length_after = 0;
 };

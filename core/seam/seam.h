@@ -43,7 +43,9 @@ struct SeamOptions {
   double exact_budget = 5.0e6;
   /// kOptimal refuses more terminals per component than this (kTooManyTerminals).
   std::size_t optimal_max_terminals = 10;
-  /// Threads for the per-terminal Dijkstra runs (0 = hardware concurrency).
+  /// Threads for per-terminal Dijkstra runs (0 = hardware concurrency). Unused since the
+  /// terminal paths come from one multi-source search and on-demand pair searches
+  /// (terminal_paths_on_demand); kept so callers that set it still compile.
   unsigned threads = 0;
   /// Optional cost multiplier per edge of the input mesh (empty: all 1). Every method then
   /// minimises the weighted length (Euclidean length x multiplier) with the same code;
@@ -54,7 +56,7 @@ struct SeamOptions {
 
 struct SeamStats {
   double preprocess_ms = 0;  ///< cut graph, boundary terminals
-  double paths_ms = 0;       ///< pairwise terminal shortest paths
+  double paths_ms = 0;       ///< the terminals' multi-source search (on-demand pair searches count as method)
   double method_ms = 0;      ///< tour + skeleton + straighten, or the baseline
   std::size_t terminals = 0;
   std::size_t exact_components = 0;  ///< components solved exactly by the skeleton's exact_budget
