@@ -174,26 +174,7 @@ Status validate(std::span<const PackChart> charts, const PackOptions& options) {
   if (!(options.margin_px >= 0 && options.margin_px <= options.texture_size / 8.0)) {
     return make_error(ErrorCode::kInvalidArgument, "pack: margin_px must be in 0..texture_size/8");
   }
-  for (std::size_t c = 0; c < charts.size(); ++c) {
-    const PackChart& chart = charts[c];
-    const std::string name = "pack: chart " + std::to_string(c);
-    if (chart.triangles.empty()) return make_error(ErrorCode::kInvalidArgument, name + " has no triangles");
-    if (!(chart.surface_area > 0) || !std::isfinite(chart.surface_area)) {
-      return make_error(ErrorCode::kInvalidArgument, name + " has surface_area " + std::to_string(chart.surface_area));
-    }
-    for (const Vec2& p : chart.uv) {
-      if (!p.allFinite()) return make_error(ErrorCode::kNonFinitePosition, name + " has a non-finite UV");
-    }
-    for (const Triangle& t : chart.triangles) {
-      for (std::uint32_t v : t) {
-        if (v >= chart.uv.size()) {
-          return make_error(ErrorCode::kIndexOutOfRange,
-                            name + " names UV " + std::to_string(v) + " of " + std::to_string(chart.uv.size()));
-        }
-      }
-    }
-  }
-  return Ok{};
+  return validate_pack_charts(charts);
 }
 
 double uv_area(const PackChart& chart) {
@@ -209,29 +190,6 @@ MinAreaRect landscape(MinAreaRect r) {
   r.min = Vec2(r.min.y(), -(r.min.x() + r.size.x()));
   r.size = Vec2(r.size.y(), r.size.x());
   return r;
-}
-
-// The rotation of a hull that minimises its longer bounding side (a long strip fits a smaller
-// square diagonally), searched over half a turn in 0.5 degree steps, then made wider than tall.
-MinAreaRect min_square_rect(std::span<const Vec2> hull) {
-  MinAreaRect best;
-  double best_side = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < 360; ++k) {
-    const double angle = std::numbers::pi * k / 360;
-    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
-    Vec2 hi = -lo;
-    for (const Vec2& p : hull) {
-      const Vec2 q = rotate(p, angle);
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-    }
-    const Vec2 size = hi - lo;
-    if (size.maxCoeff() < best_side * (1 - 1e-12)) {
-      best_side = size.maxCoeff();
-      best = {angle, size, lo};
-    }
-  }
-  return landscape(best);
 }
 
 // Boundary edges of a chart (edges used by one triangle), as point pairs through `map`.
@@ -285,6 +243,29 @@ double smallest_profile_square(const std::vector<detail::ProfileChart>& charts, 
 
 }  // namespace
 
+Status validate_pack_charts(std::span<const PackChart> charts) {
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const PackChart& chart = charts[c];
+    const std::string name = "pack: chart " + std::to_string(c);
+    if (chart.triangles.empty()) return make_error(ErrorCode::kInvalidArgument, name + " has no triangles");
+    if (!(chart.surface_area > 0) || !std::isfinite(chart.surface_area)) {
+      return make_error(ErrorCode::kInvalidArgument, name + " has surface_area " + std::to_string(chart.surface_area));
+    }
+    for (const Vec2& p : chart.uv) {
+      if (!p.allFinite()) return make_error(ErrorCode::kNonFinitePosition, name + " has a non-finite UV");
+    }
+    for (const Triangle& t : chart.triangles) {
+      for (std::uint32_t v : t) {
+        if (v >= chart.uv.size()) {
+          return make_error(ErrorCode::kIndexOutOfRange,
+                            name + " names UV " + std::to_string(v) + " of " + std::to_string(chart.uv.size()));
+        }
+      }
+    }
+  }
+  return Ok{};
+}
+
 std::vector<Vec2> convex_hull(std::span<const Vec2> points) {
   std::vector<Vec2> p(points.begin(), points.end());
   std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
@@ -308,6 +289,35 @@ std::vector<Vec2> convex_hull(std::span<const Vec2> points) {
   return hull;
 }
 
+namespace {
+
+// The axis-aligned box of the hull rotated by `angle`.
+MinAreaRect rotated_box(std::span<const Vec2> hull, double angle) {
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+  Vec2 hi = -lo;
+  for (const Vec2& p : hull) {
+    const Vec2 q = rotate(p, angle);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  return {angle, hi - lo, lo};
+}
+
+}  // namespace
+
+MinAreaRect min_square_rect(std::span<const Vec2> hull) {
+  MinAreaRect best;
+  double best_side = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 360; ++k) {
+    const MinAreaRect box = rotated_box(hull, std::numbers::pi * k / 360);
+    if (box.size.maxCoeff() < best_side * (1 - 1e-12)) {
+      best_side = box.size.maxCoeff();
+      best = box;
+    }
+  }
+  return landscape(best);
+}
+
 MinAreaRect min_area_rect(std::span<const Vec2> hull) {
   MinAreaRect best;
   if (hull.empty()) return best;
@@ -315,19 +325,10 @@ MinAreaRect min_area_rect(std::span<const Vec2> hull) {
   const std::size_t h = hull.size();
   for (std::size_t i = 0; i < std::max<std::size_t>(h, 1); ++i) {
     const Vec2 e = hull[(i + 1) % h] - hull[i];
-    const double angle = h > 1 && e.norm() > 0 ? -std::atan2(e.y(), e.x()) : 0.0;
-    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
-    Vec2 hi = -lo;
-    for (const Vec2& p : hull) {
-      const Vec2 q = rotate(p, angle);
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-    }
-    const Vec2 size = hi - lo;
-    const double area = size.x() * size.y();
-    if (area < best_area * (1 - 1e-12)) {
-      best_area = area;
-      best = {angle, size, lo};
+    const MinAreaRect box = rotated_box(hull, h > 1 && e.norm() > 0 ? -std::atan2(e.y(), e.x()) : 0.0);
+    if (box.size.prod() < best_area * (1 - 1e-12)) {
+      best_area = box.size.prod();
+      best = box;
     }
   }
   return landscape(best);

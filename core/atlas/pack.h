@@ -92,6 +92,11 @@ struct PackResult {
 Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options = {},
                                const CancelToken& cancel = CancelToken::none());
 
+/// Checks charts as pack_charts does. Errors: kInvalidArgument (a chart with no triangles, or
+/// a non-positive or non-finite surface_area; the message names the chart), kIndexOutOfRange
+/// (a triangle names a missing UV), kNonFinitePosition (a UV is NaN or infinite). O(V + T).
+Status validate_pack_charts(std::span<const PackChart> charts);
+
 /// The convex hull of `points` (Andrew's monotone chain), counter-clockwise, no collinear
 /// points, starting at the lowest-then-leftmost point. O(n log n).
 std::vector<Vec2> convex_hull(std::span<const Vec2> points);
@@ -104,5 +109,10 @@ struct MinAreaRect {
   Vec2 min = Vec2::Zero();  ///< lower-left corner after the rotation
 };
 MinAreaRect min_area_rect(std::span<const Vec2> hull);
+
+/// The rotation of a hull that minimises its longer bounding side (a long strip fits a
+/// smaller square diagonally), searched over half a turn in 0.5 degree steps, then turned
+/// wider than tall. O(360 H).
+MinAreaRect min_square_rect(std::span<const Vec2> hull);
 
 }  // namespace seam::core

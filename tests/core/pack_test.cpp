@@ -9,10 +9,12 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <set>
 
 #include "atlas_test_util.h"
 #include "core/atlas/overlap.h"
 #include "core/atlas/pack.h"
+#include "core/atlas/split.h"
 #include "core/extrema/extrema.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/topology.h"
@@ -213,6 +215,33 @@ OwnedChart ell_chart(double t, double angle) {
   return c;
 }
 
+/// A chart of the unit cells (i, j) of an n x n grid that `keep` selects, two triangles each,
+/// with shared corners; its surface area is `density2` times its UV area.
+template <class Keep>
+OwnedChart cells_chart(int n, double density2, Keep&& keep) {
+  OwnedChart c;
+  std::map<std::pair<int, int>, std::uint32_t> corner;
+  auto id = [&](int i, int j) {
+    const auto [it, added] = corner.try_emplace({i, j}, static_cast<std::uint32_t>(c.uv.size()));
+    if (added) c.uv.emplace_back(i, j);
+    return it->second;
+  };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      if (!keep(i, j)) continue;
+      c.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      c.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      c.surface_area += density2;
+    }
+  }
+  return c;
+}
+
+/// A comb: a spine along the bottom and four long teeth (fills about a third of its square).
+OwnedChart comb_chart() {
+  return cells_chart(32, 2.0, [](int i, int j) { return j < 4 || i % 8 < 3; });
+}
+
 }  // namespace
 
 TEST_CASE("the minimal-area rectangle of a rotated rectangle is the rectangle; of a polygon, no larger than a fine search") {
@@ -404,4 +433,75 @@ TEST_CASE("1,000 charts: margins hold, no overlap, one density") {
                            : ell_chart(0.2 + 0.1 * (k % 5), angle(rng)));
   }
   CHECK(pack_checked(charts, {}, 4093).coverage > 0.5);
+}
+
+TEST_CASE("splitting a sprawling chart: the pieces partition it, keep its scale, and pack better") {
+  const std::vector<OwnedChart> charts{comb_chart(), grid_chart(5, 4, 0.3, Vec2(50, 0), 2, 8)};
+  auto split = split_sprawling_charts(views(charts));
+  REQUIRE(split.ok());
+  CHECK(split->charts_split == 1);  // the square grid fills its square
+  std::vector<OwnedChart> pieces;
+  std::map<std::size_t, std::vector<std::array<std::uint32_t, 3>>> triangles_of;  // per chart, as input vertices
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::set<std::size_t>> comb_edges;  // pieces per edge
+  std::map<std::size_t, double> area_of_chart;
+  for (std::size_t p = 0; p < split->pieces.size(); ++p) {
+    const ChartPiece& piece = split->pieces[p];
+    OwnedChart c;
+    for (std::uint32_t v : piece.vertices) c.uv.push_back(charts[piece.chart].uv[v]);
+    c.triangles = piece.triangles;
+    c.surface_area = piece.surface_area;
+    area_of_chart[piece.chart] += piece.surface_area;
+    // Same scale as its chart: surface area / UV area of each piece is the chart's, 2.
+    CHECK(piece.surface_area / area_of(c.uv, c.triangles) == doctest::Approx(2.0));
+    for (const Triangle& t : piece.triangles) {
+      std::array<std::uint32_t, 3> source{piece.vertices[t[0]], piece.vertices[t[1]], piece.vertices[t[2]]};
+      triangles_of[piece.chart].push_back(source);
+      for (int k = 0; k < 3; ++k) {
+        if (piece.chart == 0) comb_edges[std::minmax(source[k], source[(k + 1) % 3])].insert(p);
+      }
+    }
+    pieces.push_back(std::move(c));
+  }
+  CHECK(pieces.size() >= 3);
+  CHECK(pieces.size() <= SplitOptions{}.max_pieces + 1);
+  // Every triangle of every chart is in exactly one piece, unchanged.
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    std::vector<std::array<std::uint32_t, 3>> expected;
+    for (const Triangle& t : charts[c].triangles) expected.push_back({t[0], t[1], t[2]});
+    std::sort(expected.begin(), expected.end());
+    std::sort(triangles_of[c].begin(), triangles_of[c].end());
+    CHECK(triangles_of[c] == expected);
+    CHECK(area_of_chart[c] == doctest::Approx(charts[c].surface_area));
+  }
+  // The cut length: edges shared by two pieces, at the comb's scale sqrt(2).
+  double cut = 0;
+  for (const auto& [e, owners] : comb_edges) {
+    if (owners.size() == 2) cut += std::sqrt(2.0) * (charts[0].uv[e.first] - charts[0].uv[e.second]).norm();
+    CHECK(owners.size() <= 2);
+  }
+  CHECK(split->cut_length == doctest::Approx(cut));
+  CHECK(cut > 0);
+  // Packed: the pieces cover more than the whole comb, with the layout checked.
+  const PackResult whole = pack_checked(charts, {}, 2047);
+  const PackResult cut_up = pack_checked(pieces, {}, 2047);
+  CHECK(cut_up.coverage > whole.coverage + 0.1);
+  // Deterministic.
+  auto again = split_sprawling_charts(views(charts));
+  REQUIRE(again.ok());
+  REQUIRE(again->pieces.size() == split->pieces.size());
+  for (std::size_t p = 0; p < split->pieces.size(); ++p) CHECK(again->pieces[p].vertices == split->pieces[p].vertices);
+  // min_fill 0 splits nothing.
+  auto none = split_sprawling_charts(views(charts), {.min_fill = 0});
+  REQUIRE(none.ok());
+  CHECK(none->pieces.size() == charts.size());
+  CHECK(none->cut_length == 0);
+}
+
+TEST_CASE("split refuses bad options and malformed charts with typed errors") {
+  std::vector<OwnedChart> charts{comb_chart()};
+  CHECK(split_sprawling_charts(views(charts), {.min_fill = 1.5}).error().code == ErrorCode::kInvalidArgument);
+  CHECK(split_sprawling_charts(views(charts), {.max_pieces = 0}).error().code == ErrorCode::kInvalidArgument);
+  CHECK(split_sprawling_charts(views(charts), {.min_triangles = 1}).error().code == ErrorCode::kInvalidArgument);
+  charts[0].triangles.push_back({0, 1, 99999});
+  CHECK(split_sprawling_charts(views(charts)).error().code == ErrorCode::kIndexOutOfRange);
 }

@@ -1,0 +1,60 @@
+// Splitting sprawling charts before packing (issue 12): a chart that fills little of its own
+// smallest enclosing square (an animal's flattened limbs, a knot's strip) is cut into pieces
+// at its narrowest cross-sections. The pieces keep their UVs, so the map's distortion is
+// unchanged; only the seam grows by the cuts.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/atlas/pack.h"
+#include "core/error.h"
+#include "core/mesh/types.h"
+
+namespace seam::core {
+
+struct SplitOptions {
+  /// A chart (or piece) whose UV area is below this fraction of its minimal enclosing
+  /// rectangle's area is split; 0 splits nothing. In [0, 1].
+  double min_fill = 0.65;
+  /// At most this many pieces per chart (>= 1).
+  std::size_t max_pieces = 12;
+  /// Pieces of fewer triangles are not split further (>= 2).
+  std::size_t min_triangles = 64;
+};
+
+/// One piece of an input chart: its vertices (indices into the chart's uv, in order of first
+/// use) and its triangles over them. Vertices on a cut appear in each piece that touches them.
+struct ChartPiece {
+  std::size_t chart = 0;
+  std::vector<std::uint32_t> vertices;
+  std::vector<Triangle> triangles;
+  /// The chart's surface_area times the piece's share of the chart's UV area, so the piece
+  /// packs at the chart's own scale.
+  double surface_area = 0;
+};
+
+struct SplitResult {
+  std::vector<ChartPiece> pieces;  ///< in order of input chart; a chart not split is one piece
+  std::size_t charts_split = 0;
+  /// Length of the new cuts, in unit-density units (UV scaled so UV area = surface area,
+  /// about the mesh's length unit), and the charts' boundary length before, alike.
+  double cut_length = 0;
+  double boundary_length = 0;
+};
+
+/// Splits each chart whose fill (UV area / its minimal enclosing rectangle's area) is below
+/// options.min_fill, recursively (the largest piece first), into at most options.max_pieces
+/// pieces per chart. A cut is a straight line across the piece's minimal rectangle (parallel
+/// to either side, at 1/8 to 7/8 of the way): of the 16 lines with the narrowest
+/// cross-section relative to the smaller side's area (length / sqrt(area)), and the 4 best
+/// parallel to each side, the one whose parts fill their rectangles best (their area / the
+/// sum of their rectangles' areas) wins, if that beats the piece's own fill. Triangles go to the side of their centroid and each
+/// side's connected parts (through shared vertices) become pieces.
+/// Deterministic. Errors: kInvalidArgument (options out of range; the charts' errors as
+/// pack_charts reports them). O(T * (96 + 24 log T)) per split of a piece of T triangles.
+Result<SplitResult> split_sprawling_charts(std::span<const PackChart> charts, const SplitOptions& options = {});
+
+}  // namespace seam::core
