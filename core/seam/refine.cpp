@@ -73,6 +73,143 @@ class LocalSteiner {
   DreyfusWagner kernel_;
 };
 
+// Pieces of the tree: every Steiner node, and every pair of adjacent Steiner nodes.
+std::vector<std::vector<std::uint32_t>> pieces_of(const TreeTopology& t) {
+  std::vector<std::vector<std::uint32_t>> pieces;
+  for (std::uint32_t s = static_cast<std::uint32_t>(t.num_terminals); s < t.nodes.size(); ++s) pieces.push_back({s});
+  for (const auto& link : t.links) {
+    if (link[0] >= t.num_terminals && link[1] >= t.num_terminals) pieces.push_back({link[0], link[1]});
+  }
+  return pieces;
+}
+
+struct Branch {
+  std::size_t link;
+  bool internal;                   // between two nodes of the piece
+  std::vector<HalfedgeId> course;  // from the outer end towards the piece
+  double length;
+};
+
+struct PieceBranches {
+  std::vector<Branch> branches;
+  double longest = 0.0;
+};
+
+// The branches at a piece, each oriented from its outer end towards the piece.
+PieceBranches branches_at(const HalfedgeMesh& mesh, std::span<const double> edge_weights, const TreeTopology& topo,
+                          const std::vector<std::uint32_t>& piece) {
+  auto in_piece = [&](std::uint32_t node) { return std::find(piece.begin(), piece.end(), node) != piece.end(); };
+  PieceBranches out;
+  for (std::size_t l = 0; l < topo.links.size(); ++l) {
+    const auto& link = topo.links[l];
+    const bool a_in = in_piece(link[0]), b_in = in_piece(link[1]);
+    if (!a_in && !b_in) continue;
+    Branch br{l, a_in && b_in, topo.paths[l], 0.0};
+    if (a_in && !b_in) {
+      std::reverse(br.course.begin(), br.course.end());
+      for (auto& h : br.course) h = HalfedgeMesh::twin(h);
+    }
+    for (HalfedgeId h : br.course) br.length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(h));
+    out.longest = std::max(out.longest, br.length);
+    out.branches.push_back(std::move(br));
+  }
+  return out;
+}
+
+struct PieceCut {
+  std::vector<VertexId> ports;             // where the cut branches now end
+  std::vector<VertexId> removed_vertices;  // the cut parts' vertices (the region's sources)
+  double removed_length = 0.0;
+};
+
+// Cuts each branch loose up to `reach` from the piece (internal branches entirely), stamping
+// the removed edges with `stamp`.
+PieceCut cut_branches(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
+                      const std::vector<Branch>& branches, double reach, std::vector<std::uint32_t>& removed_stamp,
+                      std::uint32_t stamp) {
+  PieceCut out;
+  for (const auto& br : branches) {
+    // Keep the outer part of the branch: edges whose far end is more than `reach` from the
+    // piece along the branch.
+    double from_piece = br.length;
+    std::size_t cut = 0;  // course[cut..] is removed
+    if (!br.internal) {
+      while (cut < br.course.size() && from_piece > reach) {
+        from_piece -= weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[cut]));
+        ++cut;
+      }
+      // `cut` edges leave the outer end; stop one short if that already is within reach.
+      if (cut > 0 && from_piece < reach) --cut;
+      out.ports.push_back(cut == 0 ? mesh.tail(br.course.front()) : mesh.head(br.course[cut - 1]));
+    }
+    if (cut < br.course.size()) out.removed_vertices.push_back(mesh.tail(br.course[cut]));
+    for (std::size_t i = cut; i < br.course.size(); ++i) {
+      removed_stamp[HalfedgeMesh::edge(br.course[i]).index()] = stamp;
+      out.removed_length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[i]));
+      out.removed_vertices.push_back(mesh.head(br.course[i]));
+    }
+  }
+  return out;
+}
+
+struct LocalProblem {
+  std::vector<std::uint8_t> obstacle;   // per region vertex: terminal or on the rest of the tree
+  std::vector<std::uint8_t> terminal;   // per region vertex
+  std::vector<std::uint32_t> port_mask; // per region vertex: the loose subtree it may join
+};
+
+// The local problem on `region`: the rest of the tree falls into one subtree per port; a loose
+// subtree may be joined at any non-terminal vertex, a loose terminal that is its whole
+// subtree only as itself (it stays a leaf). `in_rest` is scratch (all zero before and after).
+LocalProblem local_problem(const HalfedgeMesh& mesh, const std::vector<EdgeId>& rest,
+                           const std::vector<VertexId>& ports, std::span<const VertexId> region,
+                           const std::vector<std::uint8_t>& is_terminal, std::vector<std::uint8_t>& in_rest) {
+  // Union-find over the rest's vertices only, through a compact index.
+  std::vector<VertexId> rest_vertices;
+  for (EdgeId e : rest) {
+    rest_vertices.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+    rest_vertices.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+  }
+  for (VertexId p : ports) rest_vertices.push_back(p);
+  std::sort(rest_vertices.begin(), rest_vertices.end());
+  rest_vertices.erase(std::unique(rest_vertices.begin(), rest_vertices.end()), rest_vertices.end());
+  auto compact = [&](VertexId v) {
+    return static_cast<std::uint32_t>(std::lower_bound(rest_vertices.begin(), rest_vertices.end(), v) -
+                                      rest_vertices.begin());
+  };
+  detail::UnionFind uf(rest_vertices.size());
+  for (EdgeId e : rest) {
+    uf.unite(compact(mesh.tail(HalfedgeMesh::halfedge(e))), compact(mesh.head(HalfedgeMesh::halfedge(e))));
+  }
+  for (VertexId v : rest_vertices) in_rest[v.index()] = 1;
+  std::vector<std::int32_t> port_of_root(rest_vertices.size(), -1);
+  for (std::size_t i = 0; i < ports.size(); ++i) port_of_root[uf.find(compact(ports[i]))] = static_cast<std::int32_t>(i);
+  LocalProblem out{std::vector<std::uint8_t>(region.size()), std::vector<std::uint8_t>(region.size()),
+                   std::vector<std::uint32_t>(region.size(), 0)};
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    const VertexId v = region[i];
+    out.terminal[i] = is_terminal[v.index()];
+    out.obstacle[i] = out.terminal[i] || in_rest[v.index()];
+    if (!in_rest[v.index()]) continue;
+    const std::int32_t port = port_of_root[uf.find(compact(v))];
+    if (port >= 0 && (!out.terminal[i] || ports[static_cast<std::size_t>(port)] == v)) out.port_mask[i] = 1u << port;
+  }
+  for (VertexId v : rest_vertices) in_rest[v.index()] = 0;
+  return out;
+}
+
+// `rest` joined by the local tree's edges, sorted; a subtree joined before its cut end leaves
+// that end dangling, which is pruned.
+std::vector<EdgeId> rejoined(const HalfedgeMesh& mesh, std::vector<EdgeId> rest, std::span<const HalfedgeId> joining,
+                             std::span<const VertexId> terminals) {
+  for (HalfedgeId h : joining) rest.push_back(HalfedgeMesh::edge(h));
+  std::sort(rest.begin(), rest.end());
+  rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
+  rest = detail::prune_dangling(mesh, std::move(rest), terminals);
+  std::sort(rest.begin(), rest.end());
+  return rest;
+}
+
 // A 64-bit fingerprint of a local problem (its region in search order, each vertex's obstacle
 // flag and port mask, and the length to beat); terminals are obstacles without a port, so
 // they are covered. A collision can only skip a piece, never make the tree longer.
@@ -129,131 +266,36 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
     std::size_t index = 0;
     std::size_t moves = 0;
     SEAM_TRY(TreeTopology topo, skeleton_topology(mesh, graph, current, terminals, edge_weights, cancel));
-    auto pieces_of = [&](const TreeTopology& t) {
-      std::vector<std::vector<std::uint32_t>> pieces;
-      for (std::uint32_t s = static_cast<std::uint32_t>(t.num_terminals); s < t.nodes.size(); ++s) pieces.push_back({s});
-      for (const auto& link : t.links) {
-        if (link[0] >= t.num_terminals && link[1] >= t.num_terminals) pieces.push_back({link[0], link[1]});
-      }
-      return pieces;
-    };
     auto pieces = pieces_of(topo);
     while (index < pieces.size() && moves < 4 * pieces.size() + 8) {
       if (cancel.is_cancelled()) return cancelled_error("seam refinement");
-      const auto& piece = pieces[index];
-      auto in_piece = [&](std::uint32_t node) { return std::find(piece.begin(), piece.end(), node) != piece.end(); };
-      // The branches at the piece, cut loose up to `reach` from the piece along each branch;
-      // the loose ends (ports) are where the cut branches now end.
-      struct Branch {
-        std::size_t link;
-        bool internal;
-        std::vector<HalfedgeId> course;  // from the outer end towards the piece
-        double length;
-      };
-      std::vector<Branch> branches;
-      double longest = 0.0;
-      for (std::size_t l = 0; l < topo.links.size(); ++l) {
-        const auto& link = topo.links[l];
-        const bool a_in = in_piece(link[0]), b_in = in_piece(link[1]);
-        if (!a_in && !b_in) continue;
-        Branch br{l, a_in && b_in, topo.paths[l], 0.0};
-        if (a_in && !b_in) {
-          std::reverse(br.course.begin(), br.course.end());
-          for (auto& h : br.course) h = HalfedgeMesh::twin(h);
-        }
-        for (HalfedgeId h : br.course) br.length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(h));
-        longest = std::max(longest, br.length);
-        branches.push_back(std::move(br));
-      }
+      const auto [branches, longest] = branches_at(mesh, edge_weights, topo, pieces[index]);
       // Cut the branches and take the region around the cut parts; where the region would be
       // too large, cut less (halving the reach) so a piece costs a bounded amount of work.
-      std::vector<VertexId> ports;
-      std::vector<VertexId> removed_vertices;
-      double removed_length = 0.0;
+      PieceCut piece_cut;
       bool region_ok = false;
       double reach = options.reach * longest;
       for (int attempt = 0; attempt < 5 && !region_ok; ++attempt, reach *= 0.5) {
         ++stamp;
-        ports.clear();
-        removed_vertices.clear();
-        removed_length = 0.0;
-        for (const auto& br : branches) {
-          // Keep the outer part of the branch: edges whose far end is more than `reach` from
-          // the piece along the branch.
-          double from_piece = br.length;
-          std::size_t cut = 0;  // course[cut..] is removed
-          if (!br.internal) {
-            while (cut < br.course.size() && from_piece > reach) {
-              from_piece -= weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[cut]));
-              ++cut;
-            }
-            // `cut` edges leave the outer end; stop one short if that already is within reach.
-            if (cut > 0 && from_piece < reach) {
-              --cut;
-            }
-            ports.push_back(cut == 0 ? mesh.tail(br.course.front()) : mesh.head(br.course[cut - 1]));
-          }
-          if (cut < br.course.size()) removed_vertices.push_back(mesh.tail(br.course[cut]));
-          for (std::size_t i = cut; i < br.course.size(); ++i) {
-            removed_stamp[HalfedgeMesh::edge(br.course[i]).index()] = stamp;
-            removed_length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[i]));
-            removed_vertices.push_back(mesh.head(br.course[i]));
-          }
-        }
+        piece_cut = cut_branches(mesh, edge_weights, branches, reach, removed_stamp, stamp);
         region_search.reset();
-        for (VertexId v : removed_vertices) region_search.add_source(v);
+        for (VertexId v : piece_cut.removed_vertices) region_search.add_source(v);
         if (auto s = region_search.run_limited(reach, options.max_region + 1, cancel); !s.ok()) return s.take_error();
         region_ok = region_search.settled().size() <= options.max_region;
       }
       ++index;
       ++st.pieces_tried;
+      const std::vector<VertexId>& ports = piece_cut.ports;
+      const double removed_length = piece_cut.removed_length;
       if (!region_ok || ports.size() < 2 || ports.size() > options.max_ports) continue;
       // The rest of the tree falls into one subtree per port.
       std::vector<EdgeId> rest;
       for (EdgeId e : current) {
         if (removed_stamp[e.index()] != stamp) rest.push_back(e);
       }
-      detail::UnionFind uf(0);
-      // Union-find over the rest's vertices only, through a compact index.
-      std::vector<VertexId> rest_vertices;
-      for (EdgeId e : rest) {
-        rest_vertices.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
-        rest_vertices.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
-      }
-      for (VertexId p : ports) rest_vertices.push_back(p);
-      std::sort(rest_vertices.begin(), rest_vertices.end());
-      rest_vertices.erase(std::unique(rest_vertices.begin(), rest_vertices.end()), rest_vertices.end());
-      auto compact = [&](VertexId v) {
-        return static_cast<std::uint32_t>(std::lower_bound(rest_vertices.begin(), rest_vertices.end(), v) -
-                                          rest_vertices.begin());
-      };
-      uf.parent.resize(rest_vertices.size());
-      for (std::uint32_t i = 0; i < rest_vertices.size(); ++i) uf.parent[i] = i;
-      for (EdgeId e : rest) {
-        uf.unite(compact(mesh.tail(HalfedgeMesh::halfedge(e))), compact(mesh.head(HalfedgeMesh::halfedge(e))));
-      }
       const auto region = region_search.settled();
-      for (VertexId v : rest_vertices) in_rest[v.index()] = 1;
-      std::vector<std::int32_t> port_of_root(rest_vertices.size(), -1);
-      for (std::size_t i = 0; i < ports.size(); ++i) {
-        port_of_root[uf.find(compact(ports[i]))] = static_cast<std::int32_t>(i);
-      }
-      std::vector<std::uint8_t> obstacle(region.size()), terminal(region.size());
-      std::vector<std::uint32_t> port_mask(region.size(), 0);
-      for (std::size_t i = 0; i < region.size(); ++i) {
-        const VertexId v = region[i];
-        terminal[i] = is_terminal[v.index()];
-        obstacle[i] = terminal[i] || in_rest[v.index()];
-        if (in_rest[v.index()]) {
-          const std::int32_t port = port_of_root[uf.find(compact(v))];
-          // A loose subtree may be joined at any non-terminal vertex; a loose terminal that
-          // is its whole subtree only as itself (it stays a leaf).
-          if (port >= 0 && (!terminal[i] || ports[static_cast<std::size_t>(port)] == v)) {
-            port_mask[i] = 1u << port;
-          }
-        }
-      }
-      for (VertexId v : rest_vertices) in_rest[v.index()] = 0;
+      const LocalProblem problem = local_problem(mesh, rest, ports, region, is_terminal, in_rest);
+      const auto& [obstacle, terminal, port_mask] = problem;
       // The same local problem (region, obstacles, ports, length to beat) that had no
       // cheaper tree before has none now: later passes only solve pieces near a change.
       const std::uint64_t key = problem_key(region, obstacle, port_mask, removed_length);
@@ -269,15 +311,7 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
         no_gain.insert(key);
         continue;
       }
-      std::vector<EdgeId> joining;
-      for (HalfedgeId h : joined->halfedges) joining.push_back(HalfedgeMesh::edge(h));
-      std::vector<EdgeId> candidate = rest;
-      candidate.insert(candidate.end(), joining.begin(), joining.end());
-      std::sort(candidate.begin(), candidate.end());
-      candidate.erase(std::unique(candidate.begin(), candidate.end()), candidate.end());
-      // A subtree joined before its cut end leaves that end dangling.
-      candidate = detail::prune_dangling(mesh, std::move(candidate), terminals);
-      std::sort(candidate.begin(), candidate.end());
+      std::vector<EdgeId> candidate = rejoined(mesh, std::move(rest), joined->halfedges, terminals);
       const double length = tree_length(mesh, edge_weights, candidate);
       if (!(length < current_length - 1e-9 * (1.0 + current_length)) ||
           !check_full_component_tree(mesh, candidate, terminals).ok()) {
