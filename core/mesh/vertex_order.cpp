@@ -1,10 +1,9 @@
 #include "core/mesh/vertex_order.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <numeric>
-#include <utility>
+
+#include "core/mesh/radix_sort.h"
 
 namespace seam::core {
 
@@ -21,39 +20,11 @@ std::uint64_t spread_bits(std::uint64_t x) {
   return x;
 }
 
-// Sorts `order` (initially 0..n-1) stably by code[order[i]]: an LSD radix sort on (code, index)
-// pairs, 8 passes of 8 bits, skipping passes whose digit is the same for every vertex (the top
-// bits of a 63-bit code, say). O(n) time against std::sort's O(n log n) indirect comparisons.
-void radix_sort_by_code(std::vector<std::uint32_t>& order, const std::vector<std::uint64_t>& code) {
-  struct Item {
-    std::uint64_t code;
-    std::uint32_t index;
-  };
-  const std::size_t n = order.size();
-  std::vector<Item> items(n), scratch(n);
-  std::vector<std::array<std::uint32_t, 256>> count(8);
-  for (auto& c : count) c.fill(0);
-  for (std::size_t i = 0; i < n; ++i) {
-    items[i] = {code[order[i]], order[i]};
-    for (unsigned d = 0; d < 8; ++d) ++count[d][(items[i].code >> (8 * d)) & 0xffu];
-  }
-  for (unsigned d = 0; d < 8; ++d) {
-    if (count[d][(items[0].code >> (8 * d)) & 0xffu] == n) continue;
-    std::uint32_t sum = 0;
-    for (std::uint32_t& c : count[d]) sum += std::exchange(c, sum);
-    for (const Item& item : items) scratch[count[d][(item.code >> (8 * d)) & 0xffu]++] = item;
-    items.swap(scratch);
-  }
-  for (std::size_t i = 0; i < n; ++i) order[i] = items[i].index;
-}
-
 }  // namespace
 
 std::vector<std::uint32_t> spatial_order(std::span<const Vec3> positions) {
   const std::size_t n = positions.size();
-  std::vector<std::uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  if (n == 0) return order;
+  if (n == 0) return {};
   Vec3 lo = positions[0];
   Vec3 hi = positions[0];
   for (const Vec3& p : positions) {
@@ -62,18 +33,25 @@ std::vector<std::uint32_t> spatial_order(std::span<const Vec3> positions) {
   }
   const double extent = std::max((hi - lo).maxCoeff(), 1e-300);
   const double scale = static_cast<double>((1u << 21) - 1) / extent;
-  std::vector<std::uint64_t> code(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  struct Coded {
+    std::uint64_t code;
+    std::uint32_t index;
+  };
+  std::vector<Coded> coded(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
     const Vec3 q = (positions[i] - lo) * scale;
-    code[i] = spread_bits(static_cast<std::uint64_t>(q.x())) | spread_bits(static_cast<std::uint64_t>(q.y())) << 1 |
-              spread_bits(static_cast<std::uint64_t>(q.z())) << 2;
+    coded[i] = {spread_bits(static_cast<std::uint64_t>(q.x())) | spread_bits(static_cast<std::uint64_t>(q.y())) << 1 |
+                    spread_bits(static_cast<std::uint64_t>(q.z())) << 2,
+                i};
   }
   // A stable radix sort by code leaves equal codes in index order; only those runs (vertices
   // closer than one grid step) need the (x, y, z, index) tie-break, which sorts them alike.
-  radix_sort_by_code(order, code);
+  detail::radix_sort(coded, 63, [](const Coded& c) { return c.code; });
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = coded[i].index;
   for (std::size_t begin = 0; begin < n;) {
     std::size_t end = begin + 1;
-    while (end < n && code[order[end]] == code[order[begin]]) ++end;
+    while (end < n && coded[end].code == coded[begin].code) ++end;
     if (end - begin > 1) {
       std::sort(order.begin() + static_cast<std::ptrdiff_t>(begin), order.begin() + static_cast<std::ptrdiff_t>(end),
                 [&](std::uint32_t a, std::uint32_t b) {
@@ -86,6 +64,45 @@ std::vector<std::uint32_t> spatial_order(std::span<const Vec3> positions) {
                 });
     }
     begin = end;
+  }
+  return order;
+}
+
+std::vector<std::uint32_t> sort_triangles(std::vector<Triangle>& triangles, std::size_t num_vertices) {
+  // Buckets by t[0]: stable, so each bucket holds its triangles in index order, and only the
+  // (t[1], t[2]) order inside a bucket (a few triangles per vertex) is left to sort. The
+  // bucketed records carry their triangle, so the sorts and the write-back read memory in
+  // order instead of gathering triangles by index.
+  struct Item {
+    std::uint32_t b, c, index;
+  };
+  const auto less = [](const Item& x, const Item& y) { return x.b != y.b ? x.b < y.b : x.c < y.c; };
+  std::vector<std::uint32_t> start(num_vertices + 1, 0);
+  for (const Triangle& t : triangles) ++start[t[0] + 1];
+  for (std::size_t v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+  std::vector<Item> items(triangles.size());
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t f = 0; f < triangles.size(); ++f) items[fill[triangles[f][0]]++] = {triangles[f][1], triangles[f][2], f};
+  }
+  std::vector<std::uint32_t> order(triangles.size());
+  for (std::uint32_t v = 0; v < num_vertices; ++v) {
+    const auto begin = items.begin() + start[v];
+    const auto end = items.begin() + start[v + 1];
+    if (end - begin > 32) {
+      std::stable_sort(begin, end, less);
+    } else {
+      for (auto i = begin + 1; i < end; ++i) {
+        const Item item = *i;
+        auto j = i;
+        for (; j > begin && less(item, *(j - 1)); --j) *j = *(j - 1);
+        *j = item;
+      }
+    }
+    for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
+      triangles[i] = {v, items[i].b, items[i].c};
+      order[i] = items[i].index;
+    }
   }
   return order;
 }

@@ -18,4 +18,11 @@ namespace seam::core {
 /// for each run of k vertices sharing a code.
 std::vector<std::uint32_t> spatial_order(std::span<const Vec3> positions);
 
+/// Sorts `triangles` by their vertex triples (t[0], then t[1], then t[2]), equal triples kept
+/// in their order: what std::stable_sort on the triples gives. Returns order[new] = old.
+/// Preconditions: every index < num_vertices. Complexity: O(F + V) (a counting sort by t[0],
+/// then an insertion sort per bucket); a vertex that is t[0] of d > 32 triangles adds
+/// O(d log d). Memory: 12 bytes per triangle of scratch.
+std::vector<std::uint32_t> sort_triangles(std::vector<Triangle>& triangles, std::size_t num_vertices);
+
 }  // namespace seam::core

@@ -27,7 +27,7 @@ struct WeldResult {
 /// Welds `positions`. Welded vertices are numbered in order of their smallest input index,
 /// so the result depends only on the input, not on hashing or threads.
 /// Errors: kNonFinitePosition (elements: first offending input vertices), kInvalidArgument
-/// (bad epsilon), kCancelled. Complexity: with epsilon 0, O(n) (a radix sort of 64-bit hashes
+/// (bad epsilon), kCancelled. Complexity: with epsilon 0, O(n) (a radix sort of 32-bit hashes
 /// of the positions; only k distinct positions whose hashes collide cost O(k^2) comparisons);
 /// with epsilon > 0, expected O(n log n) on a grid of
 /// cell size epsilon (pathological clusters degrade to O(k^2) per cell).

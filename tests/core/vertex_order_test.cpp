@@ -111,3 +111,25 @@ TEST_CASE("the order is the documented one: by code, then (x, y, z), then index,
   });
   CHECK(order == expected);
 }
+
+TEST_CASE("sort_triangles is std::stable_sort on the triples, with repeats and a crowded first vertex") {
+  // Random triples over few vertices (so triples repeat and share their first vertex), plus a
+  // vertex that starts 200 triangles (its bucket takes the large-bucket branch).
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<std::uint32_t> vertex(0, 30);
+  std::vector<Triangle> triangles;
+  for (int i = 0; i < 5000; ++i) triangles.push_back({vertex(rng), vertex(rng), vertex(rng)});
+  for (int i = 0; i < 200; ++i) triangles.push_back({31, vertex(rng) % 4, vertex(rng) % 4});
+  std::shuffle(triangles.begin(), triangles.end(), rng);
+
+  std::vector<std::uint32_t> expected(triangles.size());
+  std::iota(expected.begin(), expected.end(), 0u);
+  std::stable_sort(expected.begin(), expected.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return triangles[a] < triangles[b]; });
+  std::vector<Triangle> sorted = triangles;
+  CHECK(sort_triangles(sorted, 33) == expected);  // vertex 32 starts none: an empty last bucket
+  for (std::size_t i = 0; i < sorted.size(); ++i) CHECK(sorted[i] == triangles[expected[i]]);
+
+  std::vector<Triangle> none;
+  CHECK(sort_triangles(none, 0).empty());
+}
