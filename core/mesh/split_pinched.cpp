@@ -1,7 +1,6 @@
 #include "core/mesh/split_pinched.h"
 
 #include <algorithm>
-#include <tuple>
 
 #include "core/seam/tree_util.h"
 
@@ -57,23 +56,67 @@ PinchSplit split_pinched_vertices(std::span<const Vec3> positions, std::span<con
   return out;
 }
 
+namespace {
+
+// A corner at some vertex, tagged with its fan.
+struct FanCorner {
+  std::uint32_t root;    // the fan (its lowest corner)
+  std::uint32_t corner;  // 3 * triangle + k
+};
+
+// Per vertex v, corners[start[v], start[v + 1]) are v's corners sorted by (fan root, corner):
+// a counting sort by vertex, which keeps the corners in order, then a stable sort by root
+// inside each vertex's few corners.
+struct CornersByVertex {
+  std::vector<std::uint32_t> start;
+  std::vector<FanCorner> corners;
+};
+
+CornersByVertex corners_by_vertex(std::size_t nv, std::span<const Triangle> triangles,
+                                  std::span<const std::uint32_t> fan_root) {
+  CornersByVertex g;
+  g.start.assign(nv + 1, 0);
+  for (std::uint32_t c = 0; c < fan_root.size(); ++c) {
+    if (fan_root[c] != kNoFan) ++g.start[triangles[c / 3][c % 3] + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) g.start[v + 1] += g.start[v];
+  g.corners.resize(g.start[nv]);
+  std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
+  for (std::uint32_t c = 0; c < fan_root.size(); ++c) {
+    if (fan_root[c] != kNoFan) g.corners[fill[triangles[c / 3][c % 3]]++] = {fan_root[c], c};
+  }
+  const auto by_root = [](const FanCorner& x, const FanCorner& y) { return x.root < y.root; };
+  for (std::size_t v = 0; v < nv; ++v) {
+    const auto begin = g.corners.begin() + g.start[v];
+    const auto end = g.corners.begin() + g.start[v + 1];
+    if (end - begin > 32) {
+      std::stable_sort(begin, end, by_root);
+      continue;
+    }
+    for (auto i = begin + 1; i < end; ++i) {
+      const FanCorner item = *i;
+      auto j = i;
+      for (; j > begin && by_root(item, *(j - 1)); --j) *j = *(j - 1);
+      *j = item;
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
 std::vector<std::uint32_t> split_corner_fans(std::vector<Vec3>& positions, std::vector<std::uint32_t>& source,
                                              std::vector<Triangle>& triangles, std::span<const std::uint32_t> fan_root) {
-  // Per vertex, its corners grouped by fan (the root is the fan's lowest corner).
-  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> corners;  // (vertex, fan root, corner)
-  corners.reserve(fan_root.size());
-  for (std::uint32_t c = 0; c < fan_root.size(); ++c) {
-    if (fan_root[c] != kNoFan) corners.emplace_back(triangles[c / 3][c % 3], fan_root[c], c);
-  }
-  std::sort(corners.begin(), corners.end());
+  const std::size_t nv = positions.size();
+  const CornersByVertex g = corners_by_vertex(nv, triangles, fan_root);
   std::vector<std::uint32_t> split;
-  for (std::size_t i = 0; i < corners.size();) {
-    const std::uint32_t v = std::get<0>(corners[i]);
-    const std::uint32_t first_fan = std::get<1>(corners[i]);
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (g.start[v] == g.start[v + 1]) continue;
+    const std::uint32_t first_fan = g.corners[g.start[v]].root;
     std::uint32_t fan = first_fan;
     std::uint32_t copy = v;
-    for (; i < corners.size() && std::get<0>(corners[i]) == v; ++i) {
-      const auto [vertex, root, corner] = corners[i];
+    for (std::uint32_t i = g.start[v]; i < g.start[v + 1]; ++i) {
+      const auto [root, corner] = g.corners[i];
       if (root != fan) {
         fan = root;
         copy = static_cast<std::uint32_t>(positions.size());
