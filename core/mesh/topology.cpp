@@ -1,5 +1,7 @@
 #include "core/mesh/topology.h"
 
+#include "core/seam/tree_util.h"
+
 namespace seam::core {
 
 int Topology::total_genus() const {
@@ -20,35 +22,30 @@ Topology compute_topology(const HalfedgeMesh& mesh) {
   topo.face_component.assign(mesh.num_faces(), kNone);
   topo.vertex_component.assign(mesh.num_vertices(), kNone);
 
-  // Flood fill over faces through interior edges. Edges are counted on the way (a boundary
-  // edge from its one face, an interior edge from its lower half-edge) rather than in a pass
-  // of their own: a second random walk over face_component costs as much as the fill.
-  std::vector<FaceId> stack;
-  for (std::size_t seed = 0; seed < mesh.num_faces(); ++seed) {
-    if (topo.face_component[FaceId(seed)] != kNone) continue;
-    const auto c = static_cast<std::uint32_t>(topo.components.size());
-    std::size_t faces = 0;
-    std::size_t edges = 0;
-    topo.face_component[FaceId(seed)] = c;
-    stack.push_back(FaceId(seed));
-    while (!stack.empty()) {
-      const FaceId f = stack.back();
-      stack.pop_back();
-      ++faces;
-      HalfedgeId h = mesh.face_halfedge(f);
-      for (int i = 0; i < 3; ++i, h = mesh.next(h)) {
-        const HalfedgeId t = HalfedgeMesh::twin(h);
-        const FaceId g = mesh.face(t);
-        edges += !g.valid() || h.value() < t.value();
-        if (g.valid() && topo.face_component[g] == kNone) {
-          topo.face_component[g] = c;
-          stack.push_back(g);
-        }
-      }
+  // Faces joined through interior edges, united toward the smaller face so that a component's
+  // root is its smallest face. Edges are read in id order (each one's two half-edges side by
+  // side), where a flood fill chases next() and twin() across memory.
+  const std::size_t nf = mesh.num_faces();
+  detail::UnionFind sets(nf);
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
+    const FaceId f = mesh.face(HalfedgeId(2 * e));
+    const FaceId g = mesh.face(HalfedgeId(2 * e + 1));
+    if (f.valid() && g.valid()) sets.unite(f.value(), g.value());
+  }
+  // A root precedes its members, so their component is numbered when they ask for it.
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t root = sets.find(f);
+    if (root == f) {
+      topo.face_component[FaceId(f)] = static_cast<std::uint32_t>(topo.components.size());
+      topo.components.emplace_back();
+    } else {
+      topo.face_component[FaceId(f)] = topo.face_component[FaceId(root)];
     }
-    topo.components.emplace_back();
-    topo.components[c].faces = faces;
-    topo.components[c].edges = edges;
+    ++topo.components[topo.face_component[FaceId(f)]].faces;
+  }
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
+    const FaceId f = mesh.face(HalfedgeId(2 * e));
+    ++topo.components[topo.face_component[f.valid() ? f : mesh.face(HalfedgeId(2 * e + 1))]].edges;
   }
   for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
     const HalfedgeId h = mesh.vertex_halfedge(VertexId(v));
