@@ -103,182 +103,206 @@ std::vector<Triangle> HalfedgeMesh::triangles() const {
   return result;
 }
 
-Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+namespace {
+
+Status check_positions(std::span<const Vec3> positions) {
+  std::vector<std::uint32_t> bad;
+  for (std::size_t v = 0; v < positions.size() && bad.size() < kMaxReported; ++v) {
+    if (!positions[v].allFinite()) bad.push_back(static_cast<std::uint32_t>(v));
+  }
+  if (bad.empty()) return Ok{};
+  return make_error(ErrorCode::kNonFinitePosition, "vertex " + std::to_string(bad[0]) + " has a NaN or infinite coordinate",
+                    bad);
+}
+
+// Per-face validation before anything is built, so later steps can trust indices.
+Status check_faces(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
   const std::size_t nv = positions.size();
-  const std::size_t nf = triangles.size();
-  if (nf == 0) return make_error(ErrorCode::kEmptyMesh, "the mesh has no triangles");
-  if (nf > (std::size_t{1} << 29) || nv >= VertexId::kInvalidValue) {
-    return make_error(ErrorCode::kInvalidArgument, "the mesh is too large for 32-bit half-edge ids");
-  }
-
-  // Per-vertex and per-face validation first, so later stages can trust indices.
-  {
-    std::vector<std::uint32_t> bad;
-    for (std::size_t v = 0; v < nv && bad.size() < kMaxReported; ++v) {
-      if (!positions[v].allFinite()) bad.push_back(static_cast<std::uint32_t>(v));
-    }
-    if (!bad.empty()) {
-      return make_error(ErrorCode::kNonFinitePosition,
-                        "vertex " + std::to_string(bad[0]) + " has a NaN or infinite coordinate", bad);
-    }
-  }
-  {
-    std::vector<std::uint32_t> out_of_range;
-    std::vector<std::uint32_t> degenerate;
-    std::string degenerate_reason;
-    for (std::size_t f = 0; f < nf; ++f) {
-      const Triangle& t = triangles[f];
-      if (t[0] >= nv || t[1] >= nv || t[2] >= nv) {
-        if (out_of_range.size() < kMaxReported) out_of_range.push_back(static_cast<std::uint32_t>(f));
-        continue;
-      }
-      const bool repeated = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-      // Exactly zero area only: slivers are legal input; a zero cross product would make
-      // every angle- or area-based weight downstream undefined.
-      const bool flat = !repeated && (positions[t[1]] - positions[t[0]])
-                                         .cross(positions[t[2]] - positions[t[0]])
-                                         .squaredNorm() == 0.0;
-      if ((repeated || flat) && degenerate.size() < kMaxReported) {
-        if (degenerate.empty()) degenerate_reason = repeated ? "repeats a vertex" : "has zero area";
-        degenerate.push_back(static_cast<std::uint32_t>(f));
-      }
-    }
-    if (!out_of_range.empty()) {
-      return make_error(ErrorCode::kIndexOutOfRange,
-                        "face " + std::to_string(out_of_range[0]) + " names a vertex index >= the " +
-                            std::to_string(nv) + " vertices",
-                        out_of_range);
-    }
-    if (!degenerate.empty()) {
-      const Triangle& t = triangles[degenerate[0]];
-      return make_error(ErrorCode::kDegenerateFace,
-                        "face " + std::to_string(degenerate[0]) + " (" + std::to_string(t[0]) + ", " +
-                            std::to_string(t[1]) + ", " + std::to_string(t[2]) + ") " + degenerate_reason,
-                        degenerate);
-    }
-  }
-
-  const CornerGroups groups = group_corner_edges(triangles, nv);
-  const std::vector<std::uint32_t>& bucket_start = groups.bucket_start;
-  const std::vector<CornerEdge>& corners = groups.corners;
-
-  auto corner_tail = [&](std::uint32_t c) { return triangles[c / 3][c % 3]; };
-
-  std::vector<HalfedgeId> corner_halfedge(3 * nf);
-  std::vector<std::uint8_t> edge_is_boundary;
-  edge_is_boundary.reserve(3 * nf / 2 + 16);
-  {
-    std::vector<std::uint32_t> non_manifold;
-    std::vector<std::uint32_t> misoriented;
-    std::uint32_t a = 0;  // the bucket of corners[i]: the smaller vertex
-    for (std::size_t i = 0; i < corners.size();) {
-      while (bucket_start[a + 1] <= i) ++a;
-      std::size_t j = i + 1;
-      while (j < bucket_start[a + 1] && corners[j].high == corners[i].high) ++j;
-      const std::uint32_t b = corners[i].high;
-      if (j - i > 2) {
-        if (non_manifold.size() < 2 * kMaxReported) non_manifold.insert(non_manifold.end(), {a, b});
-      } else if (j - i == 2 && corner_tail(corners[i].corner) == corner_tail(corners[i + 1].corner)) {
-        if (misoriented.size() < 2 * kMaxReported) misoriented.insert(misoriented.end(), {a, b});
-      } else {
-        const auto e = static_cast<std::uint32_t>(edge_is_boundary.size());
-        edge_is_boundary.push_back(j - i == 1);
-        corner_halfedge[corners[i].corner] = HalfedgeId(2 * e);
-        if (j - i == 2) corner_halfedge[corners[i + 1].corner] = HalfedgeId(2 * e + 1);
-      }
-      i = j;
-    }
-    if (!non_manifold.empty()) {
-      return make_error(ErrorCode::kNonManifoldEdge,
-                        "edge " + vertex_pair(non_manifold[0], non_manifold[1]) +
-                            " is shared by three or more faces",
-                        non_manifold);
-    }
-    if (!misoriented.empty()) {
-      return make_error(ErrorCode::kInconsistentOrientation,
-                        "edge " + vertex_pair(misoriented[0], misoriented[1]) +
-                            " is traversed in the same direction by both of its faces (flipped face)",
-                        misoriented);
-    }
-  }
-
-  HalfedgeMesh mesh;
-  const std::size_t nh = 2 * edge_is_boundary.size();
-  mesh.positions_.assign(positions.begin(), positions.end());
-  mesh.next_.assign(nh, HalfedgeId());
-  mesh.prev_.assign(nh, HalfedgeId());
-  mesh.tail_.assign(nh, VertexId());
-  mesh.face_.assign(nh, FaceId());
-  mesh.vertex_halfedge_.assign(nv, HalfedgeId());
-  mesh.face_halfedge_.resize(nf);
-
-  for (std::size_t f = 0; f < nf; ++f) {
-    for (unsigned i = 0; i < 3; ++i) {
-      const HalfedgeId h = corner_halfedge[3 * f + i];
-      mesh.tail_[h.index()] = VertexId(triangles[f][i]);
-      mesh.face_[h.index()] = FaceId(f);
-      mesh.next_[h.index()] = corner_halfedge[3 * f + (i + 1) % 3];
-      mesh.prev_[h.index()] = corner_halfedge[3 * f + (i + 2) % 3];
-      mesh.vertex_halfedge_[triangles[f][i]] = h;
-    }
-    mesh.face_halfedge_[f] = corner_halfedge[3 * f];
-  }
-
-  // Boundary half-edges: the twin of a lone interior half-edge a->b runs b->a. A manifold
-  // vertex has at most one outgoing boundary half-edge; two mean two fans pinched together.
-  std::vector<std::uint32_t> pinched;
-  std::vector<HalfedgeId> boundary_out(nv);
-  for (std::size_t e = 0; e < edge_is_boundary.size(); ++e) {
-    if (!edge_is_boundary[e]) continue;
-    const HalfedgeId h(2 * e + 1);
-    // head(2e) = tail(next(2e)); tail_[2e+1] is what is being filled in.
-    const VertexId tail = mesh.tail_[mesh.next_[2 * e].index()];
-    mesh.tail_[h.index()] = tail;
-    if (boundary_out[tail.index()].valid()) {
-      if (pinched.size() < kMaxReported) pinched.push_back(tail.value());
+  std::vector<std::uint32_t> out_of_range;
+  std::vector<std::uint32_t> degenerate;
+  std::string degenerate_reason;
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    const Triangle& t = triangles[f];
+    if (t[0] >= nv || t[1] >= nv || t[2] >= nv) {
+      if (out_of_range.size() < kMaxReported) out_of_range.push_back(static_cast<std::uint32_t>(f));
       continue;
     }
-    boundary_out[tail.index()] = h;
+    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+    // Exactly zero area only: slivers are legal input; a zero cross product would make
+    // every angle- or area-based weight downstream undefined.
+    const bool flat =
+        !repeated && (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]).squaredNorm() == 0.0;
+    if ((repeated || flat) && degenerate.size() < kMaxReported) {
+      if (degenerate.empty()) degenerate_reason = repeated ? "repeats a vertex" : "has zero area";
+      degenerate.push_back(static_cast<std::uint32_t>(f));
+    }
   }
-  if (!pinched.empty()) {
-    return make_error(ErrorCode::kNonManifoldVertex,
-                      "vertex " + std::to_string(pinched[0]) +
-                          " joins several separate fans of faces (a pinched or bowtie vertex)",
-                      pinched);
+  if (!out_of_range.empty()) {
+    return make_error(ErrorCode::kIndexOutOfRange,
+                      "face " + std::to_string(out_of_range[0]) + " names a vertex index >= the " + std::to_string(nv) +
+                          " vertices",
+                      out_of_range);
   }
-  for (std::size_t e = 0; e < edge_is_boundary.size(); ++e) {
-    if (!edge_is_boundary[e]) continue;
-    const HalfedgeId h(2 * e + 1);
-    const HalfedgeId n = boundary_out[mesh.head(h).index()];
-    mesh.next_[h.index()] = n;
-    mesh.prev_[n.index()] = h;
+  if (!degenerate.empty()) {
+    const Triangle& t = triangles[degenerate[0]];
+    return make_error(ErrorCode::kDegenerateFace,
+                      "face " + std::to_string(degenerate[0]) + " (" + std::to_string(t[0]) + ", " +
+                          std::to_string(t[1]) + ", " + std::to_string(t[2]) + ") " + degenerate_reason,
+                      degenerate);
   }
-  for (std::size_t v = 0; v < nv; ++v) {
-    if (boundary_out[v].valid()) mesh.vertex_halfedge_[v] = boundary_out[v];
-  }
+  return Ok{};
+}
 
-  // A vertex whose rotation does not reach all of its outgoing half-edges has several
-  // closed fans (a bowtie between interior fans has no boundary to detect it above). A
-  // rotation is a cycle of distinct outgoing half-edges, so it never reaches more than all of
-  // them: the rotations together reach all nh half-edges exactly when each one does, and the
-  // per-vertex count (another pass over tail_) is only needed to name the offenders.
+// Every corner's half-edge: edges are numbered in the order of their grouped uses, a two-face
+// edge's second use takes the twin.
+struct EdgeNumbering {
+  std::vector<HalfedgeId> corner_halfedge;    // corner 3f + i -> its half-edge t[i] -> t[i+1]
+  std::vector<std::uint8_t> edge_is_boundary;  // per edge: used by one face
+};
+
+Result<EdgeNumbering> number_edges(std::span<const Triangle> triangles, std::size_t nv) {
+  const CornerGroups groups = group_corner_edges(triangles, nv);
+  const std::vector<CornerEdge>& corners = groups.corners;
+  auto corner_tail = [&](std::uint32_t c) { return triangles[c / 3][c % 3]; };
+  EdgeNumbering out;
+  out.corner_halfedge.resize(3 * triangles.size());
+  out.edge_is_boundary.reserve(3 * triangles.size() / 2 + 16);
+  std::vector<std::uint32_t> non_manifold;
+  std::vector<std::uint32_t> misoriented;
+  std::uint32_t a = 0;  // the bucket of corners[i]: the smaller vertex
+  for (std::size_t i = 0; i < corners.size();) {
+    while (groups.bucket_start[a + 1] <= i) ++a;
+    std::size_t j = i + 1;
+    while (j < groups.bucket_start[a + 1] && corners[j].high == corners[i].high) ++j;
+    const std::uint32_t b = corners[i].high;
+    if (j - i > 2) {
+      if (non_manifold.size() < 2 * kMaxReported) non_manifold.insert(non_manifold.end(), {a, b});
+    } else if (j - i == 2 && corner_tail(corners[i].corner) == corner_tail(corners[i + 1].corner)) {
+      if (misoriented.size() < 2 * kMaxReported) misoriented.insert(misoriented.end(), {a, b});
+    } else {
+      const auto e = static_cast<std::uint32_t>(out.edge_is_boundary.size());
+      out.edge_is_boundary.push_back(j - i == 1);
+      out.corner_halfedge[corners[i].corner] = HalfedgeId(2 * e);
+      if (j - i == 2) out.corner_halfedge[corners[i + 1].corner] = HalfedgeId(2 * e + 1);
+    }
+    i = j;
+  }
+  if (!non_manifold.empty()) {
+    return make_error(ErrorCode::kNonManifoldEdge,
+                      "edge " + vertex_pair(non_manifold[0], non_manifold[1]) + " is shared by three or more faces",
+                      non_manifold);
+  }
+  if (!misoriented.empty()) {
+    return make_error(ErrorCode::kInconsistentOrientation,
+                      "edge " + vertex_pair(misoriented[0], misoriented[1]) +
+                          " is traversed in the same direction by both of its faces (flipped face)",
+                      misoriented);
+  }
+  return out;
+}
+
+Error pinched_error(const std::vector<std::uint32_t>& pinched) {
+  return make_error(ErrorCode::kNonManifoldVertex,
+                    "vertex " + std::to_string(pinched[0]) +
+                        " joins several separate fans of faces (a pinched or bowtie vertex)",
+                    pinched);
+}
+
+// A vertex whose rotation does not reach all of its outgoing half-edges has several closed
+// fans (a bowtie between interior fans has no boundary for link_boundary to see). A rotation
+// is a cycle of distinct outgoing half-edges, so it never reaches more than all of them: the
+// rotations together reach all half-edges exactly when each one does, and the per-vertex count
+// (another pass over the tails) is only needed to name the offenders.
+Status check_rotations(const HalfedgeMesh& mesh) {
+  const std::size_t nv = mesh.num_vertices();
   std::size_t reached = 0;
   for (std::size_t v = 0; v < nv; ++v) reached += mesh.valence(VertexId(v));
-  if (reached != nh) {
-    std::vector<std::uint32_t> outgoing(nv, 0);
-    for (std::size_t h = 0; h < nh; ++h) ++outgoing[mesh.tail_[h].index()];
-    for (std::size_t v = 0; v < nv; ++v) {
-      if (mesh.valence(VertexId(v)) != outgoing[v] && pinched.size() < kMaxReported) {
-        pinched.push_back(static_cast<std::uint32_t>(v));
-      }
-    }
-    if (!pinched.empty()) {
-      return make_error(ErrorCode::kNonManifoldVertex,
-                        "vertex " + std::to_string(pinched[0]) +
-                            " joins several separate fans of faces (a pinched or bowtie vertex)",
-                        pinched);
-    }
+  if (reached == mesh.num_halfedges()) return Ok{};
+  std::vector<std::uint32_t> outgoing(nv, 0);
+  for (std::size_t h = 0; h < mesh.num_halfedges(); ++h) ++outgoing[mesh.tail(HalfedgeId(h)).index()];
+  std::vector<std::uint32_t> pinched;
+  for (std::size_t v = 0; v < nv && pinched.size() < kMaxReported; ++v) {
+    if (mesh.valence(VertexId(v)) != outgoing[v]) pinched.push_back(static_cast<std::uint32_t>(v));
   }
+  SEAM_ASSERT(!pinched.empty());
+  return pinched_error(pinched);
+}
+
+}  // namespace
+
+// The steps that fill the mesh's arrays (a friend of HalfedgeMesh).
+struct HalfedgeMeshBuilder {
+  // The interior half-edges: tail, face, and next/prev around their face.
+  static HalfedgeMesh link_faces(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                                 const EdgeNumbering& edges) {
+    const std::size_t nh = 2 * edges.edge_is_boundary.size();
+    HalfedgeMesh mesh;
+    mesh.positions_.assign(positions.begin(), positions.end());
+    mesh.next_.assign(nh, HalfedgeId());
+    mesh.prev_.assign(nh, HalfedgeId());
+    mesh.tail_.assign(nh, VertexId());
+    mesh.face_.assign(nh, FaceId());
+    mesh.vertex_halfedge_.assign(positions.size(), HalfedgeId());
+    mesh.face_halfedge_.resize(triangles.size());
+    for (std::size_t f = 0; f < triangles.size(); ++f) {
+      for (unsigned i = 0; i < 3; ++i) {
+        const HalfedgeId h = edges.corner_halfedge[3 * f + i];
+        mesh.tail_[h.index()] = VertexId(triangles[f][i]);
+        mesh.face_[h.index()] = FaceId(f);
+        mesh.next_[h.index()] = edges.corner_halfedge[3 * f + (i + 1) % 3];
+        mesh.prev_[h.index()] = edges.corner_halfedge[3 * f + (i + 2) % 3];
+        mesh.vertex_halfedge_[triangles[f][i]] = h;
+      }
+      mesh.face_halfedge_[f] = edges.corner_halfedge[3 * f];
+    }
+    return mesh;
+  }
+
+  // The boundary half-edges: the twin of a lone interior half-edge a->b runs b->a, and the
+  // boundary ones link into loops. A manifold vertex has at most one outgoing boundary
+  // half-edge; two mean two fans pinched together (kNonManifoldVertex). A boundary vertex's
+  // vertex_halfedge becomes its boundary half-edge.
+  static Status link_boundary(HalfedgeMesh& mesh, const EdgeNumbering& edges) {
+    const std::size_t ne = edges.edge_is_boundary.size();
+    std::vector<std::uint32_t> pinched;
+    std::vector<HalfedgeId> boundary_out(mesh.num_vertices());
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (!edges.edge_is_boundary[e]) continue;
+      const HalfedgeId h(2 * e + 1);
+      const VertexId tail = mesh.tail_[mesh.next_[2 * e].index()];  // head(2e)
+      mesh.tail_[h.index()] = tail;
+      if (boundary_out[tail.index()].valid()) {
+        if (pinched.size() < kMaxReported) pinched.push_back(tail.value());
+        continue;
+      }
+      boundary_out[tail.index()] = h;
+    }
+    if (!pinched.empty()) return pinched_error(pinched);
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (!edges.edge_is_boundary[e]) continue;
+      const HalfedgeId h(2 * e + 1);
+      const HalfedgeId n = boundary_out[mesh.head(h).index()];
+      mesh.next_[h.index()] = n;
+      mesh.prev_[n.index()] = h;
+    }
+    for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+      if (boundary_out[v].valid()) mesh.vertex_halfedge_[v] = boundary_out[v];
+    }
+    return Ok{};
+  }
+};
+
+Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+  if (triangles.empty()) return make_error(ErrorCode::kEmptyMesh, "the mesh has no triangles");
+  if (triangles.size() > (std::size_t{1} << 29) || positions.size() >= VertexId::kInvalidValue) {
+    return make_error(ErrorCode::kInvalidArgument, "the mesh is too large for 32-bit half-edge ids");
+  }
+  if (auto status = check_positions(positions); !status.ok()) return status.take_error();
+  if (auto status = check_faces(positions, triangles); !status.ok()) return status.take_error();
+  SEAM_TRY(const EdgeNumbering edges, number_edges(triangles, positions.size()));
+  HalfedgeMesh mesh = HalfedgeMeshBuilder::link_faces(positions, triangles, edges);
+  if (auto status = HalfedgeMeshBuilder::link_boundary(mesh, edges); !status.ok()) return status.take_error();
+  if (auto status = check_rotations(mesh); !status.ok()) return status.take_error();
   return mesh;
 }
 

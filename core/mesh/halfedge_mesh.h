@@ -88,7 +88,7 @@ class HalfedgeMesh {
   std::vector<Triangle> triangles() const;
 
  private:
-  friend Result<HalfedgeMesh> build_halfedge_mesh(std::span<const Vec3>, std::span<const Triangle>);
+  friend struct HalfedgeMeshBuilder;  // build_halfedge_mesh's steps (halfedge_mesh.cpp)
 
   std::vector<Vec3> positions_;
   std::vector<HalfedgeId> next_;
