@@ -7,17 +7,14 @@
 #include <cstring>
 #include <limits>
 #include <optional>
-#include <unordered_map>
+#include <utility>
 
+#include "api/surface.h"
 #include "core/atlas/features.h"
-#include "core/visibility/visibility.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/halfedge_mesh.h"
-#include "core/mesh/repair.h"
-#include "core/mesh/split_pinched.h"
 #include "core/mesh/topology.h"
-#include "core/mesh/vertex_order.h"
-#include "core/mesh/weld.h"
+#include "core/visibility/visibility.h"
 
 namespace seam::api {
 namespace {
@@ -29,193 +26,6 @@ double ms_since(Clock::time_point t) { return std::chrono::duration<double, std:
 
 ApiError timeout(const char* stage) {
   return make_api_error(ApiErrorCode::kTimeout, std::string("the computation exceeded the time budget during ") + stage);
-}
-
-// The mesh the core sees, numbered canonically: welded vertices along a Z-order curve of their
-// positions (canonical, and neighbours close in memory: Dijkstra runs ~40% faster than in the
-// input's order of a subdivided mesh, bench/mesh_bench.cpp), faces in order of their (rotated)
-// vertex triples. Vertex order, face order and vertex splits of the input then cannot change
-// the seam: GLB, split-vertex GLB and Draco (which reorders both) of one surface give the same
-// result.
-struct Canonical {
-  std::vector<core::Vec3> positions;
-  std::vector<core::Triangle> triangles;
-  std::vector<std::uint32_t> input_to_vertex;  // input vertex -> canonical vertex
-  std::vector<std::uint32_t> vertex_to_input;  // canonical vertex -> smallest input index
-  std::vector<std::uint32_t> face_to_input;    // canonical face -> input triangle
-  std::vector<std::uint32_t> input_to_face;    // input triangle -> canonical face
-  // After repair (or split_pinched): vertices beyond the welded ones are copies made by the
-  // splits, and faces are the kept ones. face_to_input/input_to_face then speak of the mesh's
-  // faces; an input triangle left out (degenerate) maps to kNoFace and is listed below.
-  std::vector<std::uint32_t> vertex_to_welded;  // vertex -> the welded vertex it is or copies
-  std::vector<std::uint8_t> reoriented;         // per mesh face: winding reversed by the repair
-  std::vector<std::uint32_t> degenerate_inputs; // input triangles left out of the topology
-  std::size_t welded_vertices = 0;
-  core::RepairCounts repairs;
-};
-
-constexpr std::uint32_t kNoFace = core::RepairedMesh::kNoFace;
-
-Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Triangle>& input_triangles) {
-  Canonical c;
-  const std::size_t wn = weld.positions.size();
-  c.welded_vertices = wn;
-  const std::vector<std::uint32_t> order = core::spatial_order(weld.positions);
-  std::vector<std::uint32_t> rank(wn);
-  c.positions.resize(wn);
-  for (std::uint32_t k = 0; k < wn; ++k) {
-    rank[order[k]] = k;
-    c.positions[k] = weld.positions[order[k]];
-  }
-  c.input_to_vertex.resize(weld.input_to_welded.size());
-  c.vertex_to_input.assign(wn, std::numeric_limits<std::uint32_t>::max());
-  for (std::size_t i = 0; i < weld.input_to_welded.size(); ++i) {
-    const std::uint32_t v = rank[weld.input_to_welded[i]];
-    c.input_to_vertex[i] = v;
-    c.vertex_to_input[v] = std::min(c.vertex_to_input[v], static_cast<std::uint32_t>(i));
-  }
-  std::vector<core::Triangle> rotated(input_triangles.size());
-  for (std::size_t t = 0; t < input_triangles.size(); ++t) {
-    core::Triangle tri;
-    for (int k = 0; k < 3; ++k) tri[static_cast<std::size_t>(k)] = c.input_to_vertex[input_triangles[t][static_cast<std::size_t>(k)]];
-    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
-    rotated[t] = tri;
-  }
-  c.face_to_input.resize(rotated.size());
-  for (std::uint32_t t = 0; t < rotated.size(); ++t) c.face_to_input[t] = t;
-  std::stable_sort(c.face_to_input.begin(), c.face_to_input.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return rotated[a] < rotated[b]; });
-  c.input_to_face.resize(rotated.size());
-  c.triangles.resize(rotated.size());
-  for (std::uint32_t f = 0; f < rotated.size(); ++f) {
-    c.input_to_face[c.face_to_input[f]] = f;
-    c.triangles[f] = rotated[c.face_to_input[f]];
-  }
-  return c;
-}
-
-// A welded vertex where several fans of triangles meet only at that vertex (scans, CGAL's cow,
-// and split-vertex assets whose welding closes two sheets at a point) becomes one vertex per
-// fan. The copies map back to the welded vertex and so to the same input vertex; the split is
-// numbered from the canonical mesh, so it is as independent of the input order as the rest.
-void split_pinched(Canonical& c) {
-  core::PinchSplit split = core::split_pinched_vertices(c.positions, c.triangles);
-  c.repairs.pinched_vertices = split.pinched_vertices;
-  for (std::size_t v = c.vertex_to_input.size(); v < split.positions.size(); ++v) {
-    c.vertex_to_input.push_back(c.vertex_to_input[split.source[v]]);
-  }
-  c.vertex_to_welded = std::move(split.source);
-  c.positions = std::move(split.positions);
-  c.triangles = std::move(split.triangles);
-  c.reoriented.assign(c.triangles.size(), 0);
-}
-
-// repair: true. core::repair_mesh on the canonical soup (so the repair, too, is independent of
-// the input order); the maps are composed so that they still lead to input indices.
-void repair(Canonical& c) {
-  core::RepairedMesh r = core::repair_mesh(c.positions, c.triangles);
-  for (std::size_t v = c.vertex_to_input.size(); v < r.positions.size(); ++v) {
-    c.vertex_to_input.push_back(c.vertex_to_input[r.vertex_source[v]]);
-  }
-  std::vector<std::uint32_t> face_to_input(r.face_source.size());
-  for (std::size_t f = 0; f < face_to_input.size(); ++f) face_to_input[f] = c.face_to_input[r.face_source[f]];
-  for (auto& f : c.input_to_face) f = r.input_to_face[f];
-  for (auto f : r.degenerate_faces) c.degenerate_inputs.push_back(c.face_to_input[f]);
-  std::sort(c.degenerate_inputs.begin(), c.degenerate_inputs.end());
-  c.face_to_input = std::move(face_to_input);
-  c.vertex_to_welded = std::move(r.vertex_source);
-  c.positions = std::move(r.positions);
-  c.triangles = std::move(r.triangles);
-  c.reoriented = std::move(r.reoriented);
-  c.repairs = r.counts;
-}
-
-// What the builder refused, recounted over the whole soup in input numbering (the builder names
-// canonical elements and stops at 8), so the message, the count and `details` agree.
-constexpr std::size_t kListedElements = 100;
-
-json with_hint(json details, std::size_t count, const char* hint) {
-  details["count"] = count;
-  details["hint"] = hint;
-  return details;
-}
-
-ApiError degenerate_faces_error(const Canonical& canon, const PrimitiveData& data) {
-  std::vector<std::uint32_t> faces;
-  for (std::uint32_t f = 0; f < data.mesh.triangles.size(); ++f) {
-    const core::Triangle& t = canon.triangles[canon.input_to_face[f]];
-    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-    const auto& p = canon.positions;
-    if (repeated || (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).squaredNorm() == 0.0) faces.push_back(f);
-  }
-  if (faces.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder found a degenerate face, the recount none");
-  const core::Triangle& t = data.mesh.triangles[faces[0]];
-  const char* hint = "repair: true leaves them out of the topology and keeps them in the asset";
-  const std::size_t count = faces.size();
-  faces.resize(std::min(count, kListedElements));
-  return make_api_error(ApiErrorCode::kDegenerateFace,
-                        std::to_string(count) + (count == 1 ? " face is" : " faces are") +
-                            " degenerate after welding (a repeated vertex or zero area), first face " +
-                            std::to_string(faces[0]) + " (vertices " + std::to_string(t[0]) + ", " +
-                            std::to_string(t[1]) + ", " + std::to_string(t[2]) + "); " + hint,
-                        with_hint({{"faces", faces}}, count, hint));
-}
-
-// Edges of three or more faces (non_manifold), or of two faces traversing them the same way.
-ApiError edge_error(ApiErrorCode code, const Canonical& canon) {
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;  // (undirected key, tail)
-  for (const auto& t : canon.triangles) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::uint64_t a = t[k], b = t[(k + 1) % 3];
-      uses.emplace_back((std::min(a, b) << 32) | std::max(a, b), t[k]);
-    }
-  }
-  std::sort(uses.begin(), uses.end());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i + 1;
-    while (j < uses.size() && uses[j].first == uses[i].first) ++j;
-    const bool bad = code == ApiErrorCode::kNonManifoldEdge ? j - i > 2 : j - i == 2 && uses[i].second == uses[i + 1].second;
-    if (bad) {
-      const std::uint32_t a = canon.vertex_to_input[uses[i].first >> 32];
-      const std::uint32_t b = canon.vertex_to_input[uses[i].first & 0xffffffffu];
-      edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-    i = j;
-  }
-  if (edges.empty()) return make_api_error(ApiErrorCode::kInternal, "the builder refused an edge, the recount found none");
-  std::sort(edges.begin(), edges.end());
-  const std::size_t count = edges.size();
-  const bool fin = code == ApiErrorCode::kNonManifoldEdge;
-  const char* hint = fin ? "repair: true splits these edges into manifold sheets"
-                         : "repair: true reverses the faces that disagree with their sheet";
-  json listed = json::array();
-  for (std::size_t e = 0; e < std::min(count, kListedElements); ++e) listed.push_back({edges[e].first, edges[e].second});
-  return make_api_error(code,
-                        std::to_string(count) + (count == 1 ? " edge is " : " edges are ") +
-                            (fin ? "shared by three or more faces" : "traversed in the same direction by both of their faces (flipped faces)") +
-                            ", first the edge between vertices " + std::to_string(edges[0].first) + " and " +
-                            std::to_string(edges[0].second) + "; " + hint,
-                        with_hint({{"edges", std::move(listed)}}, count, hint));
-}
-
-// Core errors name canonical vertices or faces; the contract speaks in input indices.
-ApiError map_core_error(const core::Error& error, const Canonical& canon, core::ErrorCode code) {
-  ApiError out = from_core(error);
-  if (!out.details.contains("elements")) return out;
-  const bool vertices = code == core::ErrorCode::kNonManifoldEdge || code == core::ErrorCode::kNonManifoldVertex ||
-                        code == core::ErrorCode::kInconsistentOrientation || code == core::ErrorCode::kNonFinitePosition;
-  const bool faces = code == core::ErrorCode::kDegenerateFace;
-  if (!vertices && !faces) return out;
-  const auto& map = vertices ? canon.vertex_to_input : canon.face_to_input;
-  json mapped = json::array();
-  for (const auto& e : out.details["elements"]) {
-    const auto w = e.get<std::uint32_t>();
-    mapped.push_back(w < map.size() ? map[w] : w);
-  }
-  out.details[vertices ? "vertices" : "faces"] = std::move(mapped);
-  out.details.erase("elements");
-  return out;
 }
 
 // The asset's vertices after the cut: one per (input vertex, cut vertex) pair, and every input
@@ -250,16 +60,24 @@ ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const C
   OutputVertices out;
   CutPrimitive& prim = out.primitive;
   prim.triangles.resize(data.mesh.triangles.size());
-  std::unordered_map<std::uint64_t, std::uint32_t> output_index;
-  output_index.reserve(data.mesh.positions.size() * 5 / 4);
+  prim.source_vertex.reserve(data.mesh.positions.size());
+  out.cut_vertex.reserve(data.mesh.positions.size());
+  // Output vertices are numbered in order of first use. An input vertex has a few cut copies at
+  // most (one per side of the seams through it), so each keeps a chain of its output vertices:
+  // two arrays instead of a hash map of (input, cut vertex) pairs, no hashing, no node per pair.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> first_output(data.mesh.positions.size(), kNone);
+  std::vector<std::uint32_t> next_output;  // per output vertex: another of the same input vertex
+  next_output.reserve(data.mesh.positions.size());
   auto emit = [&](std::uint32_t input, core::VertexId cv) {
-    const std::uint64_t key = (static_cast<std::uint64_t>(input) << 32) | cv.value();
-    auto [it, inserted] = output_index.try_emplace(key, static_cast<std::uint32_t>(prim.source_vertex.size()));
-    if (inserted) {
-      prim.source_vertex.push_back(input);
-      out.cut_vertex.push_back(cv);
+    for (std::uint32_t o = first_output[input]; o != kNone; o = next_output[o]) {
+      if (out.cut_vertex[o] == cv) return o;
     }
-    return it->second;
+    const auto o = static_cast<std::uint32_t>(prim.source_vertex.size());
+    prim.source_vertex.push_back(input);
+    out.cut_vertex.push_back(cv);
+    next_output.push_back(std::exchange(first_output[input], o));
+    return o;
   };
   for (std::size_t f = 0; f < data.mesh.triangles.size(); ++f) {
     const std::uint32_t mf = canon.input_to_face[f];
@@ -296,25 +114,6 @@ ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const C
     }
   }
   return out;
-}
-
-// The builder's refusals in input numbering; the rest as the core says them.
-ApiError build_error(const core::Error& error, const Canonical& canon, const PrimitiveData& data) {
-  switch (error.code) {
-    case core::ErrorCode::kDegenerateFace: return degenerate_faces_error(canon, data);
-    case core::ErrorCode::kNonManifoldEdge: return edge_error(ApiErrorCode::kNonManifoldEdge, canon);
-    case core::ErrorCode::kInconsistentOrientation: return edge_error(ApiErrorCode::kInconsistentOrientation, canon);
-    case core::ErrorCode::kInvalidArgument:
-    case core::ErrorCode::kEmptyMesh:
-    case core::ErrorCode::kIndexOutOfRange:
-    case core::ErrorCode::kNonFinitePosition:
-    case core::ErrorCode::kNonManifoldVertex:
-    case core::ErrorCode::kTooManyTerminals:
-    case core::ErrorCode::kTopologyViolation:
-    case core::ErrorCode::kSolverFailed:
-    case core::ErrorCode::kCancelled: break;
-  }
-  return map_core_error(error, canon, error.code);
 }
 
 // Automatic extrema minus `excluded`, at most `budget` of them: the most prominent (ties: the
@@ -411,27 +210,6 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
   return result;
 }
 
-
-// The surface the core sees: the canonical, repaired mesh and its topology.
-struct Surface {
-  Canonical canon;
-  core::HalfedgeMesh mesh;
-  core::Topology topology;
-  std::size_t welded_vertices = 0;
-};
-
-ApiResult<Surface> prepare_surface(const PrimitiveData& data, const SeamParams& params, const core::CancelToken& cancel) {
-  auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
-  if (!weld.ok()) return from_core(weld.error());
-  Canonical canon = canonicalize(*weld, data.mesh.triangles);
-  if (params.repair) repair(canon);
-  else split_pinched(canon);
-  auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
-  if (!built.ok()) return build_error(built.error(), canon, data);
-  core::Topology topology = core::compute_topology(*built);
-  const std::size_t welded = weld->positions.size();
-  return Surface{std::move(canon), std::move(built).value(), std::move(topology), welded};
-}
 
 // The seam in input numbering, for the response and the primitive's extras.seam.
 json seam_summary(const core::SeamResult& seam, const std::vector<core::EdgeId>& cut_edges, const Surface& s,
