@@ -1,6 +1,7 @@
 #include "core/uv/slim.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -18,6 +19,15 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxProxyWeight = 1e8;
 constexpr int kHoldRounds = 8;     // rounds of holding colliding vertices per step
 constexpr int kResolveRounds = 1;  // of those, rounds that re-solve the proxy with them pinned
+
+using Clock = std::chrono::steady_clock;
+
+// Adds the time since `since` to `total` (milliseconds) and restarts the clock.
+void lap(double& total, Clock::time_point& since) {
+  const Clock::time_point now = Clock::now();
+  total += std::chrono::duration<double, std::milli>(now - since).count();
+  since = now;
+}
 
 // Per triangle: 3D area and the gradients of its three barycentric coordinates in an isometric
 // frame of its plane, so that the Jacobian of the map is J = sum_k uv_k g_k^T.
@@ -165,12 +175,289 @@ void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eig
   r << std::cos(rotation), -std::sin(rotation), std::sin(rotation), std::cos(rotation);
 }
 
-}  // namespace
+// SLIM's reweighted proxy as a sparse system over the free unknowns (vertex 0 is pinned: the
+// energy is translation invariant). Anisotropic proxy: (u, v) of vertices 1..n-1 interleaved,
+// each vertex a 2x2 block. Isotropic proxy: one unknown per vertex and two right-hand sides.
+// The pattern is fixed, so the lower triangle's value slots are located once (32-bit, only the
+// entries the block size uses: 36 MB at 1M faces instead of 288) and the symbolic
+// factorization is done once.
+class ProxySystem {
+ public:
+  ProxySystem(const DiscPatch& patch, int block) : patch_(patch), block_(block), per_triangle_(9 * block * block) {
+    const auto nfree = static_cast<Eigen::Index>(block * (patch.num_vertices() - 1));
+    system_.resize(nfree, nfree);
+    std::vector<Eigen::Triplet<double>> pattern;
+    pattern.reserve(patch.triangles.size() * (block == 2 ? 21 : 6));
+    for_each_lower_entry([&](std::size_t, std::size_t, Eigen::Index row, Eigen::Index col) {
+      pattern.emplace_back(row, col, 0.0);
+    });
+    system_.setFromTriplets(pattern.begin(), pattern.end());
+    system_.makeCompressed();
+    pattern = {};
+    SEAM_ASSERT(system_.nonZeros() < std::numeric_limits<std::int32_t>::max());
+    slot_.assign(patch.triangles.size() * per_triangle_, -1);
+    for_each_lower_entry([&](std::size_t t, std::size_t entry, Eigen::Index row, Eigen::Index col) {
+      const auto* begin = system_.innerIndexPtr() + system_.outerIndexPtr()[col];
+      const auto* end = system_.innerIndexPtr() + system_.outerIndexPtr()[col + 1];
+      const auto* it = std::lower_bound(begin, end, static_cast<int>(row));
+      SEAM_ASSERT(it != end && *it == row);
+      slot_[t * per_triangle_ + entry] = static_cast<std::int32_t>(it - system_.innerIndexPtr());
+    });
+    // The first entry of each lower-triangle column is its diagonal (where holding springs go).
+    for (Eigen::Index col = 0; col < nfree; ++col) {
+      SEAM_ASSERT(system_.innerIndexPtr()[system_.outerIndexPtr()[col]] == col);
+    }
+    rhs_.resize(nfree, block == 2 ? 1 : 2);
+    solver_.analyzePattern(system_);
+  }
 
-Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initial, const SlimOptions& options,
-                                const CancelToken& cancel) {
-  const std::size_t n = patch.num_vertices();
-  const std::size_t nf = patch.triangles.size();
+  // The proxy sum_t A_t |W_t (J_t - R_t)|^2 at `uv`. Its normal equations have block (k, l) =
+  // A_t (g_k . g_l) M_t and right-hand side A_t M_t R_t g_k for vertex k, M_t = W_t^T W_t. The
+  // isotropic proxy replaces M_t by (tr M_t / 2) I: u and v decouple and share one n x n
+  // factorization, about a quarter of the 2n x 2n one's cost. False when cancelled.
+  bool assemble(const std::vector<TriangleOperator>& ops, const std::vector<Vec2>& uv, double cap,
+                const CancelToken& cancel) {
+    std::fill(system_.valuePtr(), system_.valuePtr() + system_.nonZeros(), 0.0);
+    rhs_.setZero();
+    std::uint32_t poll = 0;
+    for (std::size_t t = 0; t < ops.size(); ++t) {
+      if (cancel.poll(poll)) return false;
+      if (ops[t].area == 0) continue;
+      add_triangle(t, ops[t], uv, cap);
+    }
+    return true;
+  }
+
+  // Numeric factorization of the current values. False if not numerically positive definite.
+  bool factorize() {
+    solver_.factorize(system_);
+    return solver_.info() == Eigen::Success;
+  }
+
+  // The step towards the minimiser of the factorized proxy, A^-1 (b - A uv) (solved as a
+  // residual so that the pinned vertex needs no special case). Empty if not finite.
+  std::vector<Vec2> direction(const std::vector<Vec2>& uv) const {
+    Eigen::MatrixXd current(rhs_.rows(), rhs_.cols());
+    for (std::uint32_t v = 1; v < uv.size(); ++v) {
+      for (int c = 0; c < 2; ++c) at(current, v, c) = uv[v][c];
+    }
+    const Eigen::MatrixXd residual = rhs_ - system_.selfadjointView<Eigen::Lower>() * current;
+    const Eigen::MatrixXd x = solver_.solve(residual);
+    if (!x.allFinite()) return {};
+    std::vector<Vec2> dir(uv.size(), Vec2::Zero());
+    for (std::uint32_t v = 1; v < uv.size(); ++v) dir[v] = Vec2(at(x, v, 0), at(x, v, 1));
+    return dir;
+  }
+
+  // A stiff spring holding vertex v at `where` (in the matrix and the right-hand side).
+  void hold(std::uint32_t v, const Vec2& where, double spring) {
+    if (v == 0) return;
+    for (int c = 0; c < block_; ++c) system_.valuePtr()[system_.outerIndexPtr()[unknown(v, c)]] += spring;
+    at(rhs_, v, 0) += spring * where.x();
+    at(rhs_, v, 1) += spring * where.y();
+  }
+
+  double max_diagonal() const {
+    double d = 0;
+    for (Eigen::Index c = 0; c < system_.cols(); ++c) d = std::max(d, std::abs(system_.valuePtr()[system_.outerIndexPtr()[c]]));
+    return d;
+  }
+
+ private:
+  Eigen::Index unknown(std::uint32_t v, int c) const { return static_cast<Eigen::Index>(block_ * (v - 1) + c); }
+  // Component c of vertex v in a matrix laid out like the right-hand side.
+  double& at(Eigen::MatrixXd& m, std::uint32_t v, int c) const {
+    return block_ == 2 ? m(unknown(v, c), 0) : m(unknown(v, 0), c);
+  }
+  double at(const Eigen::MatrixXd& m, std::uint32_t v, int c) const {
+    return block_ == 2 ? m(unknown(v, c), 0) : m(unknown(v, 0), c);
+  }
+
+  // Calls f(t, entry, row, col) for every lower-triangle entry triangle t touches, entry =
+  // (3k + l) block^2 + block a + b for corners k, l and components a, b.
+  template <class F>
+  void for_each_lower_entry(F&& f) const {
+    for (std::size_t t = 0; t < patch_.triangles.size(); ++t) {
+      const Triangle& tri = patch_.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        for (int l = 0; l < 3; ++l) {
+          if (tri[k] == 0 || tri[l] == 0) continue;
+          for (int a = 0; a < block_; ++a) {
+            for (int b = 0; b < block_; ++b) {
+              const Eigen::Index row = unknown(tri[k], a);
+              const Eigen::Index col = unknown(tri[l], b);
+              if (row >= col) f(t, static_cast<std::size_t>((3 * k + l) * block_ * block_ + block_ * a + b), row, col);
+            }
+          }
+        }
+      }
+    }
+  }
+
+  void add_triangle(std::size_t t, const TriangleOperator& op, const std::vector<Vec2>& uv, double cap) {
+    const Triangle& tri = patch_.triangles[t];
+    Eigen::Matrix2d m;
+    Eigen::Matrix2d r;
+    proxy_weights(jacobian(op, tri, uv), cap, m, r);
+    if (block_ == 1) m = 0.5 * m.trace() * Eigen::Matrix2d::Identity();
+    const Eigen::Matrix2d mr = m * r;
+    const std::int32_t* slots = &slot_[t * per_triangle_];
+    for (int k = 0; k < 3; ++k) {
+      if (tri[k] == 0) continue;
+      const Vec2 b = op.area * (mr * op.grad[k]);
+      for (int l = 0; l < 3; ++l) {
+        const Eigen::Matrix2d coefficient = (op.area * op.grad[k].dot(op.grad[l])) * m;
+        if (tri[l] == 0) {
+          // The pinned vertex moves to the right-hand side.
+          const Vec2 pinned = coefficient * uv[0];
+          at(rhs_, tri[k], 0) -= pinned.x();
+          at(rhs_, tri[k], 1) -= pinned.y();
+          continue;
+        }
+        for (int a = 0; a < block_; ++a) {
+          for (int c = 0; c < block_; ++c) {
+            const std::int32_t s = slots[(3 * k + l) * block_ * block_ + block_ * a + c];
+            if (s >= 0) system_.valuePtr()[s] += coefficient(a, c);
+          }
+        }
+      }
+      at(rhs_, tri[k], 0) += b.x();
+      at(rhs_, tri[k], 1) += b.y();
+    }
+  }
+
+  const DiscPatch& patch_;
+  int block_;
+  std::size_t per_triangle_;
+  Eigen::SparseMatrix<double> system_;  // lower triangle
+  std::vector<std::int32_t> slot_;      // per triangle and entry: index into the values, or -1
+  Eigen::MatrixXd rhs_;
+  SparseCholesky solver_;
+};
+
+// One SLIM run between its steps: the chart, the current map and its energy, the proxy.
+struct Descent {
+  const DiscPatch& patch;
+  const std::vector<TriangleOperator>& ops;
+  const SlimOptions& options;
+  double gap;  // boundary vertices keep this far from the boundary edges they face
+  SlimResult& result;
+  double energy;
+  ProxySystem proxy;
+  std::vector<Vec2> trial;
+};
+
+// Backtracking on the true energy from `step` (no larger than the largest step that keeps every
+// triangle positive, with a margin since the energy is infinite at the bound itself). Leaves
+// the last trial map in d.trial and returns its energy.
+double line_search(Descent& d, const std::vector<Vec2>& dir, double step) {
+  const std::vector<Vec2>& uv = d.result.uv;
+  double trial_energy = kInf;
+  for (int halving = 0; halving < 30 && step > 1e-12; ++halving, step *= 0.5) {
+    for (std::size_t v = 0; v < uv.size(); ++v) d.trial[v] = uv[v] + step * dir[v];
+    trial_energy = mean_energy(d.patch, d.ops, d.trial);
+    if (trial_energy < d.energy) break;
+  }
+  return trial_energy;
+}
+
+struct HeldSearch {
+  double energy = kInf;  // of d.trial
+  bool descended = false;
+};
+
+// Truncating the whole step at the first boundary contact would stall every vertex for the
+// sake of a few. Instead hold the vertices of the colliding pairs where they are and let the
+// rest move (bounds recomputed for that direction, so the guarantees hold); a few rounds,
+// since holding some may expose other contacts. The first kResolveRounds rounds re-solve the
+// proxy with the held vertices tied to their places by stiff springs, so that the free ones
+// move as well as they can with these held (zeroing the held ones alone may ascend).
+HeldSearch held_search(Descent& d, const std::vector<Vec2>& direction, CollisionStep collision) {
+  const std::vector<Vec2>& uv = d.result.uv;
+  const std::size_t n = uv.size();
+  HeldSearch out;
+  std::vector<Vec2> held = direction;
+  std::vector<char> pinned(n, 0);
+  const double spring = 1e6 * d.proxy.max_diagonal();
+  for (int round = 0; round < kHoldRounds && collision.limited; ++round) {
+    for (std::uint32_t v : collision.colliding) {
+      if (pinned[v]) continue;
+      pinned[v] = 1;
+      if (round < kResolveRounds) d.proxy.hold(v, uv[v], spring);
+    }
+    if (round < kResolveRounds) {
+      if (d.proxy.factorize()) {
+        ++d.result.factorizations;
+        std::vector<Vec2> resolved = d.proxy.direction(uv);
+        if (!resolved.empty()) held = std::move(resolved);
+      }
+    }
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (pinned[v]) held[v] = Vec2::Zero();
+    }
+    const double held_step = std::min(1.0, 0.9 * max_injective_step(d.patch, uv, held));
+    collision = max_collision_free_step(d.patch, uv, held, held_step, d.gap);
+    if (!collision.limited || round == kHoldRounds - 1) {
+      const double bound = collision.limited ? 0.9 * collision.step : held_step;
+      out.energy = line_search(d, held, bound);
+      out.descended = out.energy < d.energy;
+    }
+  }
+  return out;
+}
+
+struct StepOutcome {
+  double energy = kInf;   // of d.trial
+  bool collided = false;  // a boundary contact limited the step
+};
+
+// The bounded step along the proxy's direction: no triangle degenerates and (with
+// options.injective) no boundary vertex reaches a boundary edge.
+StepOutcome bounded_step(Descent& d, const std::vector<Vec2>& direction) {
+  SlimTimings& timings = d.result.timings;
+  Clock::time_point clock = Clock::now();
+  double step = std::min(1.0, 0.9 * max_injective_step(d.patch, d.result.uv, direction));
+  lap(timings.line_search_ms, clock);
+  StepOutcome out;
+  if (d.options.injective) {
+    const CollisionStep collision = max_collision_free_step(d.patch, d.result.uv, direction, step, d.gap);
+    if (collision.limited) {
+      ++d.result.collision_limited_steps;
+      out.collided = true;
+      const HeldSearch held = held_search(d, direction, collision);
+      if (held.descended) {
+        out.energy = held.energy;
+        lap(timings.collision_ms, clock);
+        return out;
+      }
+      step = 0.9 * max_collision_free_step(d.patch, d.result.uv, direction, step, d.gap).step;
+    }
+    lap(timings.collision_ms, clock);
+  }
+  out.energy = line_search(d, direction, step);
+  lap(timings.line_search_ms, clock);
+  return out;
+}
+
+// The start: the given map, or Tutte's embedding when it folds or (injective) its boundary
+// crosses itself; scaled to the 3D area.
+Result<std::vector<Vec2>> slim_start(const DiscPatch& patch, const std::vector<TriangleOperator>& ops,
+                                     std::vector<Vec2> initial, bool injective, SlimResult& result) {
+  if (has_fold(patch, ops, initial)) {
+    SEAM_TRY(initial, tutte_embedding(patch));
+    result.tutte_start = true;
+  } else if (injective && !boundary_is_simple(patch, initial)) {
+    // Fold-free but overlapping (a boundary that winds over itself): Tutte's map on a convex
+    // boundary is bijective, and the bounded steps keep it so.
+    SEAM_TRY(initial, tutte_embedding(patch));
+    result.tutte_start = true;
+    result.overlapping_start = true;
+  }
+  scale_to_surface_area(patch, ops, initial);
+  return initial;
+}
+
+Status validate(std::size_t n, const std::vector<Vec2>& initial, const SlimOptions& options) {
   if (initial.size() != n) {
     return make_error(ErrorCode::kInvalidArgument, "SLIM: the initial map has " + std::to_string(initial.size()) +
                                                        " UVs for " + std::to_string(n) + " vertices");
@@ -182,260 +469,88 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
   if (!(options.tolerance >= 0 && options.tolerance <= 1)) {
     return make_error(ErrorCode::kInvalidArgument, "SLIM: tolerance must be in 0..1");
   }
+  return Ok{};
+}
 
-  const std::vector<TriangleOperator> ops = triangle_operators(patch);
-  SlimResult result;
-  if (has_fold(patch, ops, initial)) {
-    SEAM_TRY(initial, tutte_embedding(patch));
-    result.tutte_start = true;
-  } else if (options.injective && !boundary_is_simple(patch, initial)) {
-    // Fold-free but overlapping (a boundary that winds over itself): Tutte's map on a convex
-    // boundary is bijective, and the bounded steps below keep it so.
-    SEAM_TRY(initial, tutte_embedding(patch));
-    result.tutte_start = true;
-    result.overlapping_start = true;
-  }
-  scale_to_surface_area(patch, ops, initial);
-  result.energy_start = mean_energy(patch, ops, initial);
-  result.energy_end = result.energy_start;
-  result.uv = std::move(initial);
-  std::vector<Vec2>& uv = result.uv;
-  if (options.iterations == 0 || n < 2) {
-    result.injective = !has_fold(patch, ops, result.uv) && boundary_is_simple(patch, result.uv);
-    return result;
-  }
-
-  // Vertex 0 is pinned (the energy is translation invariant). Anisotropic proxy: unknowns
-  // (u, v) of vertices 1..n-1 interleaved, each vertex a 2x2 block. Isotropic proxy: one
-  // unknown per vertex and two right-hand sides. The pattern is fixed, so the lower triangle's
-  // value slots are located once and the symbolic factorization is done once.
-  const int block = options.proxy == SlimProxy::kAnisotropic ? 2 : 1;
-  const auto nfree = static_cast<Eigen::Index>(block * (n - 1));
-  auto unknown = [block](std::uint32_t v, int c) { return static_cast<Eigen::Index>(block * (v - 1) + c); };
-  // Calls f(t, slot index, row, col) for every lower-triangle entry triangle t touches.
-  auto for_each_lower_entry = [&](auto&& f) {
-    for (std::size_t t = 0; t < nf; ++t) {
-      const Triangle& tri = patch.triangles[t];
-      for (int k = 0; k < 3; ++k) {
-        for (int l = 0; l < 3; ++l) {
-          if (tri[k] == 0 || tri[l] == 0) continue;
-          for (int a = 0; a < block; ++a) {
-            for (int b = 0; b < block; ++b) {
-              const Eigen::Index row = unknown(tri[k], a);
-              const Eigen::Index col = unknown(tri[l], b);
-              if (row >= col) f(t, static_cast<std::size_t>((3 * k + l) * 4 + 2 * a + b), row, col);
-            }
-          }
-        }
-      }
-    }
-  };
-  Eigen::SparseMatrix<double> system(nfree, nfree);
-  {
-    std::vector<Eigen::Triplet<double>> pattern;
-    pattern.reserve(nf * (block == 2 ? 21 : 6));
-    for_each_lower_entry([&](std::size_t, std::size_t, Eigen::Index row, Eigen::Index col) {
-      pattern.emplace_back(row, col, 0.0);
-    });
-    system.setFromTriplets(pattern.begin(), pattern.end());
-    system.makeCompressed();
-  }
-  // slot[t][(3k + l) * 4 + 2a + b]: index into system's values, or -1 if pinned or upper.
-  std::vector<std::array<std::int64_t, 36>> slot(nf);
-  for (auto& s : slot) s.fill(-1);
-  for_each_lower_entry([&](std::size_t t, std::size_t entry, Eigen::Index row, Eigen::Index col) {
-    const auto* begin = system.innerIndexPtr() + system.outerIndexPtr()[col];
-    const auto* end = system.innerIndexPtr() + system.outerIndexPtr()[col + 1];
-    const auto* it = std::lower_bound(begin, end, static_cast<int>(row));
-    SEAM_ASSERT(it != end && *it == row);
-    slot[t][entry] = it - system.innerIndexPtr();
-  });
-  // The diagonal entry of each unknown (the first entry of its lower-triangle column), where a
-  // stiff spring pins a vertex that collides (see the line search).
-  std::vector<std::int64_t> diag_slot(static_cast<std::size_t>(nfree));
-  for (Eigen::Index col = 0; col < nfree; ++col) {
-    const std::int64_t first = system.outerIndexPtr()[col];
-    SEAM_ASSERT(system.innerIndexPtr()[first] == col);
-    diag_slot[static_cast<std::size_t>(col)] = first;
-  }
-  SparseCholesky solver;
-  solver.analyzePattern(system);
-
-  // One column of interleaved (u, v) for the 2x2-block system, two columns otherwise.
-  Eigen::MatrixXd rhs(nfree, block == 2 ? 1 : 2);
-  auto rhs_at = [&](std::uint32_t v, int c) -> double& {
-    return block == 2 ? rhs(unknown(v, c), 0) : rhs(unknown(v, 0), c);
-  };
-  std::vector<Vec2> direction(n, Vec2::Zero());
-  std::vector<Vec2> trial(n);
-  std::uint32_t poll = 0;
-  double energy = result.energy_start;
+// The descent loop: returns false when cancelled.
+bool descend(Descent& d, const CancelToken& cancel) {
+  SlimResult& result = d.result;
+  SlimTimings& timings = result.timings;
   // Uncapped first. Triangles squeezed to 1e-4 of their size (a long limb that no seam
   // reaches) give weights near 1e12 and a system too ill-conditioned for Cholesky in double
   // precision; then the weights are capped and the step retried. The line search on the true
   // energy keeps every step a descent step either way.
   double weight_cap = kInf;
-  // Boundary vertices keep 1e-4 of the chart's size from the boundary edges they face: far
-  // below a texel, far above float32's resolution wherever the chart is packed.
-  double area_3d = 0;
-  for (const TriangleOperator& op : ops) area_3d += op.area;
-  const double gap = 1e-4 * std::sqrt(area_3d);
   // A Tutte start is far from the optimum (its convex boundary squeezes whole regions), so it
-  // gets three times the step budget.
-  int max_iterations = result.tutte_start ? 3 * options.iterations : options.iterations;
-  bool extended = false;
-  for (int iter = 0; iter < max_iterations; ++iter) {
-    if (cancel.is_cancelled()) return cancelled_error("SLIM");
-    // Proxy: sum_t A_t |W_t (J_t - R_t)|^2. Its normal equations have block (k, l) =
-    // A_t (g_k . g_l) M_t and right-hand side A_t M_t R_t g_k for vertex k, M_t = W_t^T W_t.
-    // The isotropic proxy replaces M_t by (tr M_t / 2) I: u and v decouple and share one
-    // n x n factorization, about a quarter of the 2n x 2n one's cost, for somewhat slower
-    // convergence per step.
-    std::fill(system.valuePtr(), system.valuePtr() + system.nonZeros(), 0.0);
-    rhs.setZero();
-    for (std::size_t t = 0; t < nf; ++t) {
-      if (cancel.poll(poll)) return cancelled_error("SLIM assembly");
-      const TriangleOperator& op = ops[t];
-      if (op.area == 0) continue;
-      const Triangle& tri = patch.triangles[t];
-      Eigen::Matrix2d m;
-      Eigen::Matrix2d r;
-      proxy_weights(jacobian(op, tri, uv), weight_cap, m, r);
-      if (block == 1) m = 0.5 * m.trace() * Eigen::Matrix2d::Identity();
-      const Eigen::Matrix2d mr = m * r;
-      for (int k = 0; k < 3; ++k) {
-        if (tri[k] == 0) continue;
-        const Vec2 b = op.area * (mr * op.grad[k]);
-        for (int l = 0; l < 3; ++l) {
-          const Eigen::Matrix2d coefficient = (op.area * op.grad[k].dot(op.grad[l])) * m;
-          if (tri[l] == 0) {
-            // The pinned vertex moves to the right-hand side.
-            const Vec2 pinned = coefficient * uv[0];
-            rhs_at(tri[k], 0) -= pinned.x();
-            rhs_at(tri[k], 1) -= pinned.y();
-            continue;
-          }
-          for (int a = 0; a < block; ++a) {
-            for (int c = 0; c < block; ++c) {
-              const std::int64_t s = slot[t][static_cast<std::size_t>((3 * k + l) * 4 + 2 * a + c)];
-              if (s >= 0) system.valuePtr()[s] += coefficient(a, c);
-            }
-          }
-        }
-        rhs_at(tri[k], 0) += b.x();
-        rhs_at(tri[k], 1) += b.y();
-      }
-    }
+  // gets three times the step budget; so do steps that boundary contacts slow down.
+  int max_iterations = result.tutte_start ? 3 * d.options.iterations : d.options.iterations;
+  while (result.iterations < max_iterations) {
+    if (cancel.is_cancelled()) return false;
+    Clock::time_point clock = Clock::now();
+    if (!d.proxy.assemble(d.ops, result.uv, weight_cap, cancel)) return false;
+    lap(timings.assemble_ms, clock);
     // Every iterate is a valid (fold-free) map, so a numerical failure of the proxy stops the
     // descent where it is instead of failing the request.
-    solver.factorize(system);
-    if (solver.info() != Eigen::Success && weight_cap == kInf) {
-      weight_cap = kMaxProxyWeight;
-      --iter;
-      continue;
-    }
-    if (solver.info() != Eigen::Success) {
+    if (!d.proxy.factorize()) {
+      if (weight_cap == kInf) {
+        weight_cap = kMaxProxyWeight;
+        continue;
+      }
       result.numerical_stop = true;
       break;
     }
-    const Eigen::MatrixXd x = solver.solve(rhs);
-    if (!x.allFinite()) {
+    ++result.factorizations;
+    const std::vector<Vec2> direction = d.proxy.direction(result.uv);
+    lap(timings.factor_ms, clock);
+    if (direction.empty()) {
       result.numerical_stop = true;
       break;
     }
-    for (std::uint32_t v = 1; v < n; ++v) {
-      const Vec2 target = block == 2 ? Vec2(x(unknown(v, 0), 0), x(unknown(v, 1), 0))
-                                     : Vec2(x(unknown(v, 0), 0), x(unknown(v, 0), 1));
-      direction[v] = target - uv[v];
-    }
-
-    // Backtracking on the true energy, from the largest step that keeps every triangle
-    // positive (with a margin, since the energy is infinite at the bound itself).
-    auto line_search = [&](const std::vector<Vec2>& dir, double step) {
-      double trial_energy = kInf;
-      for (int halving = 0; halving < 30 && step > 1e-12; ++halving, step *= 0.5) {
-        for (std::size_t v = 0; v < n; ++v) trial[v] = uv[v] + step * dir[v];
-        trial_energy = mean_energy(patch, ops, trial);
-        if (trial_energy < energy) break;
-      }
-      return trial_energy;
-    };
-    double step = std::min(1.0, 0.9 * max_injective_step(patch, uv, direction));
-    double trial_energy = kInf;
-    bool searched = false;
-    bool collided = false;
-    if (options.injective) {
-      CollisionStep collision = max_collision_free_step(patch, uv, direction, step, gap);
-      if (collision.limited) {
-        ++result.collision_limited_steps;
-        collided = true;
-        // Contacts slow the descent: allow them the Tutte start's budget.
-        if (!extended) {
-          max_iterations = std::max(max_iterations, 3 * options.iterations);
-          extended = true;
-        }
-        // Truncating the whole step at the first contact would stall every vertex for the
-        // sake of a few. Instead hold the vertices of the colliding pairs where they are and
-        // let the rest move (bounds recomputed for that direction, so the guarantees hold);
-        // a few rounds, since holding some may expose other contacts.
-        std::vector<Vec2> held = direction;
-        std::vector<char> pinned(n, 0);
-        double spring = 0;
-        for (Eigen::Index k = 0; k < nfree; ++k) {
-          spring = std::max(spring, std::abs(system.valuePtr()[diag_slot[static_cast<std::size_t>(k)]]));
-        }
-        spring *= 1e6;
-        for (int round = 0; round < kHoldRounds && collision.limited; ++round) {
-          for (std::uint32_t v : collision.colliding) {
-            if (pinned[v]) continue;
-            pinned[v] = 1;
-            if (v == 0 || round >= kResolveRounds) continue;
-            // A stiff spring to its place: the re-solved proxy step then moves the free
-            // vertices as well as it can with these held (zeroing them alone may ascend).
-            for (int c = 0; c < block; ++c) system.valuePtr()[diag_slot[unknown(v, c)]] += spring;
-            rhs_at(v, 0) += spring * uv[v].x();
-            rhs_at(v, 1) += spring * uv[v].y();
-          }
-          if (round < kResolveRounds) {
-            solver.factorize(system);
-            if (solver.info() == Eigen::Success) {
-              const Eigen::MatrixXd xp = solver.solve(rhs);
-              if (xp.allFinite()) {
-                for (std::uint32_t v = 1; v < n; ++v) {
-                  held[v] = (block == 2 ? Vec2(xp(unknown(v, 0), 0), xp(unknown(v, 1), 0))
-                                        : Vec2(xp(unknown(v, 0), 0), xp(unknown(v, 0), 1))) -
-                            uv[v];
-                }
-              }
-            }
-          }
-          for (std::uint32_t v = 0; v < n; ++v) {
-            if (pinned[v]) held[v] = Vec2::Zero();
-          }
-          const double held_step = std::min(1.0, 0.9 * max_injective_step(patch, uv, held));
-          collision = max_collision_free_step(patch, uv, held, held_step, gap);
-          if (!collision.limited || round == kHoldRounds - 1) {
-            const double bound = collision.limited ? 0.9 * collision.step : held_step;
-            trial_energy = line_search(held, bound);
-            searched = trial_energy < energy;
-          }
-        }
-        if (!searched) {
-          step = 0.9 * max_collision_free_step(patch, uv, direction, step, gap).step;
-        }
-      }
-    }
-    if (!searched) trial_energy = line_search(direction, step);
-    if (!(trial_energy < energy)) break;  // no descent along the proxy's step: converged
-    uv.swap(trial);
-    const double decrease = (energy - trial_energy) / energy;
-    energy = trial_energy;
+    const StepOutcome step = bounded_step(d, direction);
+    if (!(step.energy < d.energy)) break;  // no descent along the proxy's step: converged
+    result.uv.swap(d.trial);
+    const double decrease = (d.energy - step.energy) / d.energy;
+    d.energy = step.energy;
     ++result.iterations;
+    if (step.collided) max_iterations = std::max(max_iterations, 3 * d.options.iterations);
     // A step held back by a contact gains little without being converged: go on.
-    if (decrease < options.tolerance && !collided) break;
+    if (decrease < d.options.tolerance && !step.collided) break;
   }
-  result.energy_end = energy;
-  result.injective = !has_fold(patch, ops, uv) && boundary_is_simple(patch, uv);
+  return true;
+}
+
+
+}  // namespace
+
+Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initial, const SlimOptions& options,
+                                const CancelToken& cancel) {
+  const std::size_t n = patch.num_vertices();
+  if (Status valid = validate(n, initial, options); !valid.ok()) return valid.take_error();
+  Clock::time_point clock = Clock::now();
+  const std::vector<TriangleOperator> ops = triangle_operators(patch);
+  SlimResult result;
+  SEAM_TRY(result.uv, slim_start(patch, ops, std::move(initial), options.injective, result));
+  result.energy_start = mean_energy(patch, ops, result.uv);
+  result.energy_end = result.energy_start;
+  lap(result.timings.start_ms, clock);
+  if (options.iterations > 0 && n >= 2) {
+    double area_3d = 0;
+    for (const TriangleOperator& op : ops) area_3d += op.area;
+    // Boundary vertices keep 1e-4 of the chart's size from the boundary edges they face: far
+    // below a texel, far above float32's resolution wherever the chart is packed.
+    Descent d{.patch = patch,
+              .ops = ops,
+              .options = options,
+              .gap = 1e-4 * std::sqrt(area_3d),
+              .result = result,
+              .energy = result.energy_start,
+              .proxy = ProxySystem(patch, options.proxy == SlimProxy::kAnisotropic ? 2 : 1),
+              .trial = std::vector<Vec2>(n)};
+    lap(result.timings.analyze_ms, clock);
+    if (!descend(d, cancel)) return cancelled_error("SLIM");
+    result.energy_end = d.energy;
+  }
+  result.injective = !has_fold(patch, ops, result.uv) && boundary_is_simple(patch, result.uv);
   return result;
 }
 

@@ -30,9 +30,20 @@ struct SlimOptions {
   bool injective = true;
 };
 
+/// Where SLIM's time went, in milliseconds (steady clock).
+struct SlimTimings {
+  double start_ms = 0;        ///< fold and boundary checks of the start, Tutte if needed, scaling
+  double analyze_ms = 0;      ///< the proxy's pattern, slots and symbolic factorization (once)
+  double assemble_ms = 0;     ///< proxy weights and system values, all steps
+  double factor_ms = 0;       ///< numeric factorizations and solves, all steps
+  double line_search_ms = 0;  ///< injective step bounds and energy evaluations, all steps
+  double collision_ms = 0;    ///< boundary collision bounds and held-vertex rounds, all steps
+};
+
 struct SlimResult {
   std::vector<Vec2> uv;  ///< one UV per local vertex, at 3D scale; no triangle flipped
   int iterations = 0;    ///< global steps taken
+  int factorizations = 0;  ///< numeric factorizations of the proxy, held-vertex re-solves included
   /// Area-weighted mean symmetric Dirichlet energy s1^2 + 1/s1^2 + s2^2 + 1/s2^2 (4 for an
   /// isometry) of the start after scaling, and of the result.
   double energy_start = 0;
@@ -49,6 +60,7 @@ struct SlimResult {
   /// The result's boundary is a simple closed curve and no triangle folds: the map is
   /// injective (always true with options.injective, up to the rounding of the contact times).
   bool injective = false;
+  SlimTimings timings;
 };
 
 /// Minimises the symmetric Dirichlet energy (area-weighted, free boundary) starting from
