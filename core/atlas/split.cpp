@@ -30,13 +30,22 @@ struct Piece {
   double area = 0;
 };
 
-// UV area / area of the minimal enclosing rectangle.
-double fill_of(const PackChart& chart, const Piece& piece) {
+// The piece's vertices' UVs, each once.
+std::vector<Vec2> points_of(const PackChart& chart, const Piece& piece) {
+  std::vector<bool> seen(chart.uv.size(), false);
   std::vector<Vec2> points;
   for (std::uint32_t t : piece.triangles) {
-    for (std::uint32_t v : chart.triangles[t]) points.push_back(chart.uv[v]);
+    for (std::uint32_t v : chart.triangles[t]) {
+      if (!seen[v]) points.push_back(chart.uv[v]);
+      seen[v] = true;
+    }
   }
-  const double rect = min_area_rect(convex_hull(points)).size.prod();
+  return points;
+}
+
+// UV area / area of the minimal enclosing rectangle.
+double fill_of(const PackChart& chart, const Piece& piece) {
+  const double rect = min_area_rect(convex_hull(points_of(chart, piece))).size.prod();
   return rect > 0 ? piece.area / rect : 1;
 }
 
@@ -145,11 +154,7 @@ std::vector<Piece> split_piece(const PackChart& chart, const Piece& piece, const
 
 // The best-scored cuts of a piece across either side of its minimal rectangle.
 std::vector<Cut> best_cuts(const PackChart& chart, const Piece& piece) {
-  std::vector<Vec2> points;
-  for (std::uint32_t t : piece.triangles) {
-    for (std::uint32_t v : chart.triangles[t]) points.push_back(chart.uv[v]);
-  }
-  const double angle = min_area_rect(convex_hull(points)).angle;
+  const double angle = min_area_rect(convex_hull(points_of(chart, piece))).angle;
   const double c = std::cos(angle);
   const double s = std::sin(angle);
   std::vector<Vec2> q(chart.uv.size());
