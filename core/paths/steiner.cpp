@@ -90,7 +90,12 @@ void TerminalPaths::search_pair(std::size_t i, std::size_t j) const {
   search_->reset();
   search_->add_source(terminals[i]);
   const VertexId target[] = {terminals[j]};
-  (void)search_->run(target);  // no cancel token: cannot fail
+  // No cancel token: neither can fail. A* settles vertices with their exact distances too.
+  if (astar_) {
+    (void)search_->run_astar(terminals[j], mesh_->positions());
+  } else {
+    (void)search_->run(target);
+  }
   // Every terminal this search settled is known now (settled distances are final).
   for (std::size_t other = 0; other < size(); ++other) {
     if (other == i || !std::isnan(distance_[i * size() + other]) || !search_->reached(terminals[other])) continue;
@@ -158,7 +163,8 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
 }
 
 Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                               std::span<const VertexId> terminals, const CancelToken& cancel) {
+                                               std::span<const VertexId> terminals, const CancelToken& cancel,
+                                               bool euclidean) {
   if (auto st = validate_terminals(mesh, terminals); !st.ok()) return st.take_error();
   const std::size_t k = terminals.size();
   SEAM_TRY(ShortestPathTree voronoi, dijkstra(graph, terminals, {}, cancel));
@@ -201,6 +207,7 @@ Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const E
   }
   result.mesh_ = &mesh;
   result.search_ = std::make_shared<PathSearch>(graph);
+  result.astar_ = euclidean;
   return result;
 }
 

@@ -135,7 +135,7 @@ Result<MethodTree> exact_tree(const HalfedgeMesh& work, const EdgeGraph& graph, 
     return MethodTree{std::move(exact->edges), true};
   }
   auto start = Clock::now();
-  SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, graph, terminals, cancel));
+  SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, graph, terminals, cancel, weights.empty()));
   stats.paths_ms += ms_since(start);
   start = Clock::now();
   SEAM_TRY(SkeletonResult skeleton,
@@ -180,7 +180,7 @@ Result<MethodTree> run_method(const HalfedgeMesh& work, std::span<const double> 
   }
   if (options.method == SeamMethod::kSkeleton || options.method == SeamMethod::kMst) {
     auto start = Clock::now();
-    SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, graph, terminals, cancel));
+    SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, graph, terminals, cancel, weights.empty()));
     stats.paths_ms += ms_since(start);
     start = Clock::now();
     if (options.method == SeamMethod::kSkeleton) {

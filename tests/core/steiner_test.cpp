@@ -55,14 +55,16 @@ TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of 
   // Uneven weights, so ties are rare and Voronoi regions are not round.
   std::vector<double> weights(mesh.num_edges());
   for (std::size_t e = 0; e < weights.size(); ++e) weights[e] = mesh.edge_length(EdgeId(e)) * (1.0 + (e * 37 % 11) / 10.0);
-  for (const bool weighted : {false, true}) {
+  // The weights are never below the Euclidean lengths, so A* pair searches are valid in both.
+  for (const auto& [weighted, astar] : {std::pair{false, false}, std::pair{false, true}, std::pair{true, true}}) {
     CAPTURE(weighted);
+    CAPTURE(astar);
     const std::span<const double> w = weighted ? std::span<const double>(weights) : std::span<const double>();
     const EdgeGraph graph = build_edge_graph(mesh, w);
     const std::vector<VertexId> terminals = {VertexId(5u),   VertexId(70u),  VertexId(101u), VertexId(300u),
                                              VertexId(444u), VertexId(600u), VertexId(2u)};
     const std::size_t k = terminals.size();
-    auto lazy = terminal_paths_on_demand(mesh, graph, terminals);
+    auto lazy = terminal_paths_on_demand(mesh, graph, terminals, CancelToken::none(), astar);
     auto full = compute_terminal_paths(mesh, graph, terminals, 1);
     REQUIRE(lazy.ok());
     REQUIRE(full.ok());
