@@ -44,7 +44,8 @@ struct Canonical {
 /// Canonical::input_to_face of an input triangle left out of the topology.
 inline constexpr std::uint32_t kNoFace = core::RepairedMesh::kNoFace;
 
-/// Milliseconds of each step of prepare_surface; total is the job's timings_ms.weld.
+/// Wall milliseconds of each step of prepare_surface; total is their sum (the job's
+/// timings_ms.weld times the call around them).
 struct SurfaceTimings {
   double weld = 0;          ///< core::weld_vertices
   double canonicalize = 0;  ///< Z-order vertices, rotated and sorted triangles, the maps
@@ -70,7 +71,9 @@ struct Surface {
 /// repairing, at the cost of one refused build on defective input.
 /// Errors name input elements: kNonFinitePosition, kDegenerateFace, kNonManifoldEdge,
 /// kInconsistentOrientation and kNonManifoldVertex (repair: false), kInvalidParameter (weld
-/// epsilon), kTimeout (cancelled), kInternal.
+/// epsilon), kTimeout (cancelled during the weld), kEmptyMesh and kIndexOutOfRange (the
+/// builder's, on input the reader should have refused), kInternal (a refusal the recount does
+/// not find). Complexity: O(V + F) for bounded valence, plus repair_mesh's cost on a refusal.
 ApiResult<Surface> prepare_surface(const PrimitiveData& data, const SeamParams& params, const core::CancelToken& cancel);
 
 /// A core error whose `elements` name canonical vertices or faces, with them mapped to input
