@@ -1,0 +1,113 @@
+// Flattening at scale (issue 14, item 3): the default map's time against BFF's on ~1M faces,
+// paired in one run, and where SLIM's time goes. Target: default <= 1.5x BFF's own time
+// (`uv: bff`), both through parameterize() as the service calls it.
+//
+//   flatten_bench [pairs [min_faces [mesh ...]]]   default: 3 pairs, 900000 faces; lion-head (a
+//       disc) and camel (closed, cut by the skeleton seam through its automatic extrema)
+// Each mesh is midpoint-subdivided to >= min_faces faces and numbered along a Z-order curve, as
+// the service numbers every mesh. Prints tables; asserts nothing.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "core/extrema/extrema.h"
+#include "core/mesh/cut.h"
+#include "core/mesh/topology.h"
+#include "core/seam/seam.h"
+#include "core/uv/bff.h"
+#include "core/uv/parameterize.h"
+#include "core/uv/slim.h"
+
+using namespace seam;
+
+namespace {
+
+constexpr double kTargetRatio = 1.5;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+// The mesh to flatten: a disc as it is, a closed mesh cut along its default seam.
+core::HalfedgeMesh disc_of(const std::string& name, std::size_t min_faces) {
+  const core::IndexedMesh soup = bench::spatially_ordered(bench::subdivide_to(bench::load_cgal(name), min_faces));
+  core::HalfedgeMesh mesh = bench::build_welded(soup);
+  const core::Topology topology = core::compute_topology(mesh);
+  if (topology.boundary_loops.size() > 0) return mesh;
+  const auto extrema = core::find_extrema(mesh).value();
+  const auto seam = core::compute_seam(mesh, extrema, {}).value();
+  return std::move(core::cut_along_edges(mesh, core::all_cut_edges(seam)).value().mesh);
+}
+
+// Stage by stage on the largest chart: BFF, then SLIM's own breakdown.
+void breakdown(const std::string& name, const core::HalfedgeMesh& disc) {
+  const core::Topology topology = core::compute_topology(disc);
+  auto patches = core::extract_disc_patches(disc, topology).value();
+  const auto largest = std::max_element(patches.begin(), patches.end(), [](const auto& a, const auto& b) {
+    return a.triangles.size() < b.triangles.size();
+  });
+  std::vector<core::Vec2> start;
+  const double bff_ms = bench::best_ms(1, [&] { start = core::flatten_bff(*largest, core::CancelToken::none()).value(); });
+  core::repair_flips(*largest, start);
+  core::SlimResult slim;
+  const double slim_ms = bench::best_ms(1, [&] {
+    slim = core::flatten_slim(*largest, start, {}, core::CancelToken::none()).value();
+  });
+  const core::SlimTimings& t = slim.timings;
+  std::printf("%-10s %9zu %8.0f %8.0f %5d %5d %6.3f %6.3f %4d %7.0f %7.0f %8.0f %7.0f %7.0f %7.0f%s\n",
+              name.c_str(), largest->triangles.size(), bff_ms, slim_ms, slim.iterations, slim.factorizations,
+              slim.energy_start, slim.energy_end, slim.collision_limited_steps, t.start_ms, t.analyze_ms,
+              t.assemble_ms, t.factor_ms, t.line_search_ms, t.collision_ms, slim.tutte_start ? " (tutte start)" : "");
+  std::fflush(stdout);
+}
+
+// Paired parameterize() runs, BFF then the default, `pairs` times; medians and their ratio.
+void paired(const std::string& name, const core::HalfedgeMesh& disc, int pairs) {
+  std::vector<double> bff;
+  std::vector<double> def;
+  core::Distortion d;
+  std::size_t flips = 0;
+  double overlap = 0;
+  for (int i = 0; i < pairs; ++i) {
+    bff.push_back(bench::best_ms(1, [&] { (void)core::parameterize(disc, {.method = core::UvMethod::kBff}); }));
+    def.push_back(bench::best_ms(1, [&] {
+      auto r = core::parameterize(disc, {}).value();
+      d = r.distortion;
+      flips = r.distortion.flipped;
+      overlap = r.overlap_area;
+    }));
+  }
+  const double ratio = median(def) / median(bff);
+  std::printf("%-10s %9zu %9.0f %9.0f %6.2f %-6s %8.3f %6.3f %6zu %8.2g\n", name.c_str(), disc.num_faces(),
+              median(bff), median(def), ratio, ratio <= kTargetRatio ? "met" : "missed", d.area_geometric, d.angle,
+              flips, overlap);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int pairs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  const std::size_t min_faces = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 900'000;
+  std::vector<std::string> names = {"lion-head", "camel"};
+  if (argc > 3) names.assign(argv + 3, argv + argc);
+  std::vector<core::HalfedgeMesh> discs;
+  for (const auto& name : names) discs.push_back(disc_of(name, min_faces));
+
+  std::printf("== SLIM on the largest chart, ms (one run each)\n");
+  std::printf("%-10s %9s %8s %8s %5s %5s %6s %6s %4s %7s %7s %8s %7s %7s %7s\n", "mesh", "faces", "bff", "slim",
+              "iters", "facts", "E0", "E1", "coll", "start", "analyze", "assemble", "factor", "search", "collide");
+  for (std::size_t i = 0; i < names.size(); ++i) breakdown(names[i], discs[i]);
+
+  std::printf("\n== parameterize(): default vs uv=bff, median of %d pairs (target ratio <= %.1f)\n", pairs,
+              kTargetRatio);
+  std::printf("%-10s %9s %9s %9s %6s %-6s %8s %6s %6s %8s\n", "mesh", "faces", "bff ms", "default", "ratio", "target",
+              "area_g", "angle", "flips", "overlap");
+  for (std::size_t i = 0; i < names.size(); ++i) paired(names[i], discs[i], pairs);
+  return 0;
+}
