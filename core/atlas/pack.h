@@ -87,7 +87,7 @@ struct PackResult {
 /// passes of O(n * S) (S skyline segments <= n + 1), O(n^2) worst; packer (2) about 20 passes
 /// of O(n * 4 * (256 * W + B)) for W columns per chart and B boundary edges; packer (3)
 /// O(orientations * (T + 512^2 / 8)) per chart to rasterize (T triangles) plus the positions
-/// tried, which skip runs of full cells. 1,000 charts (packer 1 only): ~40 ms; atlas_bench's
+/// tried, which skip runs of full cells. 1,000 charts (packer 1 only): ~25 ms of CPU; atlas_bench's
 /// groups of 4-113 charts of 10^3-10^5 triangles: 75-300 ms of CPU (bench/atlas_bench.cpp).
 Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options = {},
                                const CancelToken& cancel = CancelToken::none());
