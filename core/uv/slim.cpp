@@ -208,6 +208,9 @@ class ProxySystem {
       SEAM_ASSERT(system_.innerIndexPtr()[system_.outerIndexPtr()[col]] == col);
     }
     rhs_.resize(nfree, block == 2 ? 1 : 2);
+    // One analysis, one factorization per step (and per held-vertex re-solve): nested
+    // dissection's cheaper factorizations repay its dearer analysis (sparse_cholesky.h).
+    solver_.prefer_nested_dissection();
     solver_.analyzePattern(system_);
   }
 
