@@ -15,11 +15,15 @@ namespace seam::core {
 
 /// Sheffer 2002: the union of the shortest paths along the MST (Kruskal) of the complete
 /// terminal graph. Terminals may end up interior. Same preconditions as skeleton_seam.
+/// Errors: kInvalidArgument (fewer than two, repeated or out-of-range terminals; terminals
+/// not all connected), kCancelled.
 Result<SteinerTree> mst_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
                              const TerminalPaths& paths, const CancelToken& cancel = CancelToken::none());
 
 /// Gu et al. 2002: start at terminal 0, repeatedly add the shortest path from the current
 /// tree to the nearest unconnected terminal (multi-source Dijkstra from the tree).
+/// Errors: kInvalidArgument (fewer than two, repeated or out-of-range terminals; terminals
+/// not all connected), kCancelled.
 Result<SteinerTree> greedy_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
                                 std::span<const VertexId> terminals, const CancelToken& cancel = CancelToken::none());
 
