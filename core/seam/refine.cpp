@@ -234,13 +234,11 @@ double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weight
 
 }  // namespace
 
-Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                        std::span<const double> edge_weights, std::span<const VertexId> terminals,
-                                        std::span<const EdgeId> edges, const RefineOptions& options,
-                                        RefineStats* stats, const CancelToken& cancel) {
-  RefineStats local_stats;
-  RefineStats& st = stats ? *stats : local_stats;
-  st = RefineStats{};
+Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                 std::span<const double> edge_weights, std::span<const VertexId> terminals,
+                                 std::span<const EdgeId> edges, const RefineOptions& options,
+                                 const CancelToken& cancel) {
+  RefineStats st;
   if (auto valid = check_full_component_tree(mesh, edges, terminals); !valid.ok()) {
     return make_error(ErrorCode::kInvalidArgument, "refine_tree needs a full-component tree: " + valid.error().message);
   }
@@ -330,7 +328,7 @@ Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGrap
     if (!improved || work > options.max_work) break;
   }
   st.length_after = current_length;
-  return current;
+  return RefineResult{std::move(current), st};
 }
 
 }  // namespace seam::core

@@ -39,6 +39,11 @@ struct RefineStats {
   double length_after = 0;
 };
 
+struct RefineResult {
+  std::vector<EdgeId> edges;  ///< the refined tree (sorted)
+  RefineStats stats;
+};
+
 /// Shortens `edges` (a full-component tree on `terminals`: check_full_component_tree holds)
 /// while keeping every terminal a leaf. For each Steiner point s, and each pair of adjacent
 /// Steiner points, the branches at the piece are removed, which leaves k <= max_ports loose
@@ -47,12 +52,12 @@ struct RefineStats {
 /// terminal and no other part of the tree, and stays inside a region around the piece
 /// (Dreyfus–Wagner over the 2^k port subsets, with one Dijkstra per subset on the region).
 /// A move is kept only if the tree stays valid and gets shorter, so the result is never
-/// longer than the input. Errors: kInvalidArgument (input not a full-component tree),
+/// longer than the input. Errors: kInvalidArgument (input not a full-component tree, or
+/// max_ports above 20), kTopologyViolation (from skeleton_topology on the current tree),
 /// kCancelled. Complexity per piece: O(3^k n + 2^k n log n), n = region size.
-Result<std::vector<EdgeId>> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                        std::span<const double> edge_weights, std::span<const VertexId> terminals,
-                                        std::span<const EdgeId> edges, const RefineOptions& options = {},
-                                        RefineStats* stats = nullptr,
-                                        const CancelToken& cancel = CancelToken::none());
+Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                 std::span<const double> edge_weights, std::span<const VertexId> terminals,
+                                 std::span<const EdgeId> edges, const RefineOptions& options = {},
+                                 const CancelToken& cancel = CancelToken::none());
 
 }  // namespace seam::core

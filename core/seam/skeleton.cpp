@@ -61,7 +61,9 @@ Result<SkeletonResult> finish(const HalfedgeMesh& mesh, const EdgeGraph& graph, 
   }
   if (options.refine) {
     const auto start = std::chrono::steady_clock::now();
-    SEAM_TRY(final_edges, refine_tree(mesh, graph, edge_weights, terminals, final_edges, {}, &tr.refine_stats, cancel));
+    SEAM_TRY(RefineResult refined, refine_tree(mesh, graph, edge_weights, terminals, final_edges, {}, cancel));
+    final_edges = std::move(refined.edges);
+    tr.refine_stats = refined.stats;
     result.stats.refine_ms = ms_since(start);
     tr.refined_length = tr.refine_stats.length_after;
   }
@@ -118,7 +120,9 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
   // the tour or its skeleton cannot be made a full component) falls back to the star tree.
   auto paper = [&]() -> Result<TreeTopology> {
     auto start = std::chrono::steady_clock::now();
-    SEAM_TRY(tr.tour, build_tour(mesh, paths, &tr.tour_stats, cancel));
+    SEAM_TRY(TourResult tour, build_tour(mesh, paths, cancel));
+    tr.tour = std::move(tour.tour);
+    tr.tour_stats = tour.stats;
     result.stats.tour_ms = ms_since(start);
     result.stats.removals = tr.tour_stats.removals;
     result.stats.rejected_removals = tr.tour_stats.rejected_removals;
@@ -130,12 +134,13 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
 
     start = std::chrono::steady_clock::now();
     SEAM_TRY(auto topo, skeleton_topology(mesh, graph, tr.raw_skeleton, terminals, edge_weights, cancel));
-    SEAM_TRY(auto straight, straighten_topology(mesh, graph, edge_weights, topo, &tr.straighten_stats, cancel));
+    SEAM_TRY(StraightenResult straight, straighten_topology(mesh, graph, edge_weights, topo, cancel));
+    tr.straighten_stats = straight.stats;
     result.stats.straighten_ms = ms_since(start);
-    if (auto st = check_full_component_tree(mesh, topology_edges(straight), terminals); !st.ok()) {
+    if (auto st = check_full_component_tree(mesh, topology_edges(straight.topology), terminals); !st.ok()) {
       return st.take_error();
     }
-    return straight;
+    return std::move(straight.topology);
   };
   auto straight = options.paper_steps ? paper()
                                       : Result<TreeTopology>(make_error(ErrorCode::kInvalidArgument,

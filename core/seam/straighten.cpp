@@ -312,12 +312,10 @@ Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph
   return topo;
 }
 
-Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                         std::span<const double> edge_weights, const TreeTopology& topology,
-                                         StraightenStats* stats, const CancelToken& cancel) {
-  StraightenStats local;
-  StraightenStats& st = stats ? *stats : local;
-  st = StraightenStats{};
+Result<StraightenResult> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                             std::span<const double> edge_weights, const TreeTopology& topology,
+                                             const CancelToken& cancel) {
+  StraightenStats st;
   const std::size_t nl = topology.links.size();
   st.branches = nl;
   // Shorter branches first; branches without a course first of all (they must be routed).
@@ -368,7 +366,7 @@ Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGra
     }
     if (failed == nl) {
       search.clear_marks();
-      return result;
+      return StraightenResult{std::move(result), st};
     }
     ++st.retries;
     order.erase(std::find(order.begin(), order.end(), failed));

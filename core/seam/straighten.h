@@ -62,6 +62,11 @@ struct StraightenStats {
   std::size_t retries = 0;  ///< restarts with a blocked branch placed first
 };
 
+struct StraightenResult {
+  TreeTopology topology;  ///< same nodes and links, every branch re-routed (or kept)
+  StraightenStats stats;
+};
+
 /// §4.4: keeps terminals and Steiner points fixed and replaces every branch by a shortest
 /// path that passes through no other node and shares no vertex with the other branches,
 /// so the result stays a tree with every terminal a leaf. Shorter branches are placed
@@ -71,9 +76,9 @@ struct StraightenStats {
 /// Errors: kTopologyViolation (no disjoint course for some branch), kCancelled.
 /// Complexity: O(b E log V) worst case, b = number of branches; each search stops at its
 /// target, so typically far less.
-Result<TreeTopology> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                         std::span<const double> edge_weights, const TreeTopology& topology, StraightenStats* stats = nullptr,
-                                         const CancelToken& cancel = CancelToken::none());
+Result<StraightenResult> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                             std::span<const double> edge_weights, const TreeTopology& topology,
+                                             const CancelToken& cancel = CancelToken::none());
 
 /// The sorted, unique edges of all paths of `topology`.
 std::vector<EdgeId> topology_edges(const TreeTopology& topology);

@@ -173,10 +173,9 @@ Result<Tour> mst_walk(const HalfedgeMesh& mesh, const TerminalPaths& paths, cons
   return tour;
 }
 
-Result<Tour> remove_repeated_visits(const HalfedgeMesh& mesh, const TerminalPaths& paths, Tour tour,
-                                    TourStats* stats, const CancelToken& cancel) {
-  TourStats local;
-  TourStats& st = stats ? *stats : local;
+Result<TourResult> remove_repeated_visits(const HalfedgeMesh& mesh, const TerminalPaths& paths, Tour tour,
+                                          const CancelToken& cancel) {
+  TourStats st;
   st.initial_visits = tour.visits.size();
   const std::size_t k = paths.size();
   std::vector<std::uint32_t> visit_count(k, 0);
@@ -266,13 +265,12 @@ Result<Tour> remove_repeated_visits(const HalfedgeMesh& mesh, const TerminalPath
   const auto first = std::min_element(tour.visits.begin(), tour.visits.end()) - tour.visits.begin();
   std::rotate(tour.visits.begin(), tour.visits.begin() + first, tour.visits.end());
   std::rotate(tour.pieces.begin(), tour.pieces.begin() + first, tour.pieces.end());
-  return tour;
+  return TourResult{std::move(tour), st};
 }
 
-Result<Tour> build_tour(const HalfedgeMesh& mesh, const TerminalPaths& paths, TourStats* stats,
-                        const CancelToken& cancel) {
+Result<TourResult> build_tour(const HalfedgeMesh& mesh, const TerminalPaths& paths, const CancelToken& cancel) {
   SEAM_TRY(Tour walk, mst_walk(mesh, paths, cancel));
-  return remove_repeated_visits(mesh, paths, std::move(walk), stats, cancel);
+  return remove_repeated_visits(mesh, paths, std::move(walk), cancel);
 }
 
 }  // namespace seam::core

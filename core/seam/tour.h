@@ -34,6 +34,11 @@ struct TourStats {
   std::size_t tightened = 0;          ///< pieces afterwards replaced by the shortest path
 };
 
+struct TourResult {
+  Tour tour;
+  TourStats stats;
+};
+
 /// The MST of the terminal distance graph (TerminalPaths::mst: Kruskal's, ties by index).
 /// Returns k - 1 pairs (i < j) in the order Kruskal accepted them. O(k).
 std::vector<std::array<std::uint32_t, 2>> terminal_mst(const TerminalPaths& paths);
@@ -59,11 +64,13 @@ Result<Tour> mst_walk(const HalfedgeMesh& mesh, const TerminalPaths& paths,
 /// the shortest Pre -> Next path is dropped without changing the course (forced merge).
 /// Afterwards each piece that is not a shortest path is replaced by one where that keeps the
 /// tour simple (tightening). Errors: kCancelled. O(k^2 L) for tour length L.
-Result<Tour> remove_repeated_visits(const HalfedgeMesh& mesh, const TerminalPaths& paths, Tour tour,
-                                    TourStats* stats = nullptr, const CancelToken& cancel = CancelToken::none());
+Result<TourResult> remove_repeated_visits(const HalfedgeMesh& mesh, const TerminalPaths& paths, Tour tour,
+                                          const CancelToken& cancel = CancelToken::none());
 
 /// mst_walk followed by remove_repeated_visits: every terminal visited exactly once.
-Result<Tour> build_tour(const HalfedgeMesh& mesh, const TerminalPaths& paths, TourStats* stats = nullptr,
-                        const CancelToken& cancel = CancelToken::none());
+/// Errors: kInvalidArgument (fewer than two terminals, terminals not connected by the MST,
+/// or a path between two MST neighbours missing), kCancelled.
+Result<TourResult> build_tour(const HalfedgeMesh& mesh, const TerminalPaths& paths,
+                              const CancelToken& cancel = CancelToken::none());
 
 }  // namespace seam::core

@@ -109,13 +109,14 @@ TEST_CASE("shrink_tour on a real tour: marks fill the interior, skeleton exactly
     for (auto t : s.tips) terminals.push_back(VertexId(t));
     auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
     REQUIRE(paths.ok());
-    auto tour = build_tour(mesh, *paths);
-    REQUIRE(tour.ok());
-    auto shrunk = shrink_tour(mesh, *tour);
+    auto built = build_tour(mesh, *paths);
+    REQUIRE(built.ok());
+    const Tour& tour = built->tour;
+    auto shrunk = shrink_tour(mesh, tour);
     REQUIRE(shrunk.ok());
-    const auto inside = interior_faces(mesh, *tour);
+    const auto inside = interior_faces(mesh, tour);
     std::vector<std::uint8_t> on_tour_face(mesh.num_faces(), 0);
-    for (const auto& piece : tour->pieces) {
+    for (const auto& piece : tour.pieces) {
       for (HalfedgeId h : piece) on_tour_face[mesh.face(h).index()] = on_tour_face[mesh.face(HalfedgeMesh::twin(h)).index()] = 1;
     }
     // A face with tour half-edges takes the majority of its half-edges' marks, which an
@@ -137,7 +138,7 @@ TEST_CASE("shrink_tour on a real tour: marks fill the interior, skeleton exactly
     }
     // Every piece's wave enters the interior: each mark appears on some face.
     std::set<std::int32_t> marks(shrunk->face_mark.begin(), shrunk->face_mark.end());
-    for (std::size_t piece = 0; piece < tour->pieces.size(); ++piece) CHECK(marks.count(static_cast<std::int32_t>(piece)) == 1);
+    for (std::size_t piece = 0; piece < tour.pieces.size(); ++piece) CHECK(marks.count(static_cast<std::int32_t>(piece)) == 1);
   }
 }
 

@@ -126,9 +126,10 @@ TEST_CASE("skeleton seam on spiky spheres: a full-component tree, deterministic,
 
 TEST_CASE("Algorithm 3's raw skeleton reaches every terminal and straightening keeps terminals off paths") {
   const Setup s = spiky(6);
-  auto tour = build_tour(s.mesh, s.paths);
-  REQUIRE(tour.ok());
-  auto shrunk = shrink_tour(s.mesh, *tour);
+  auto built = build_tour(s.mesh, s.paths);
+  REQUIRE(built.ok());
+  const Tour& tour = built->tour;
+  auto shrunk = shrink_tour(s.mesh, tour);
   REQUIRE(shrunk.ok());
   std::set<std::uint32_t> skeleton_vertices;
   for (EdgeId e : shrunk->skeleton) {
@@ -139,30 +140,31 @@ TEST_CASE("Algorithm 3's raw skeleton reaches every terminal and straightening k
   // Marks only flow to the interior (right-hand side): faces left of every tour half-edge
   // that are not also right of one stay unmarked, and every piece's wave reaches some face.
   std::set<std::int32_t> marks(shrunk->face_mark.begin(), shrunk->face_mark.end());
-  for (std::size_t i = 0; i < tour->pieces.size(); ++i) CHECK(marks.count(static_cast<std::int32_t>(i)) == 1);
+  for (std::size_t i = 0; i < tour.pieces.size(); ++i) CHECK(marks.count(static_cast<std::int32_t>(i)) == 1);
 
   auto topo = skeleton_topology(s.mesh, s.graph, shrunk->skeleton, s.paths.terminals, s.weights);
   REQUIRE(topo.ok());
-  auto straight = straighten_topology(s.mesh, s.graph, s.weights, *topo);
-  REQUIRE(straight.ok());
+  auto straightened = straighten_topology(s.mesh, s.graph, s.weights, *topo);
+  REQUIRE(straightened.ok());
+  const TreeTopology& straight = straightened->topology;
   std::set<std::uint32_t> node_vertices;
-  for (VertexId v : straight->nodes) node_vertices.insert(v.value());
-  for (std::size_t l = 0; l < straight->links.size(); ++l) {
-    const auto& path = straight->paths[l];
+  for (VertexId v : straight.nodes) node_vertices.insert(v.value());
+  for (std::size_t l = 0; l < straight.links.size(); ++l) {
+    const auto& path = straight.paths[l];
     REQUIRE_FALSE(path.empty());
-    CHECK(s.mesh.tail(path.front()) == straight->nodes[straight->links[l][0]]);
-    CHECK(s.mesh.head(path.back()) == straight->nodes[straight->links[l][1]]);
+    CHECK(s.mesh.tail(path.front()) == straight.nodes[straight.links[l][0]]);
+    CHECK(s.mesh.head(path.back()) == straight.nodes[straight.links[l][1]]);
     for (std::size_t i = 0; i + 1 < path.size(); ++i) CHECK(node_vertices.count(s.mesh.head(path[i]).value()) == 0);
   }
   // Branches do not cross or touch: their inner vertices are pairwise disjoint.
   std::set<std::uint32_t> inner;
-  for (const auto& path : straight->paths) {
+  for (const auto& path : straight.paths) {
     for (std::size_t i = 0; i + 1 < path.size(); ++i) CHECK(inner.insert(s.mesh.head(path[i]).value()).second);
   }
   // Straightening does not lengthen the skeleton's branches.
-  CHECK(topology_length(s.mesh, s.weights, *straight) <=
+  CHECK(topology_length(s.mesh, s.weights, straight) <=
         topology_length(s.mesh, s.weights, *topo) + 1e-9);
-  CHECK(check_full_component_tree(s.mesh, topology_edges(*straight), s.paths.terminals).ok());
+  CHECK(check_full_component_tree(s.mesh, topology_edges(straight), s.paths.terminals).ok());
 }
 
 TEST_CASE("two terminals: the seam is their shortest path") {

@@ -127,29 +127,30 @@ TEST_CASE("Algorithm 2: the tour visits every terminal exactly once, without sel
   for (int spikes : {3, 4, 6, 8, 12}) {
     CAPTURE(spikes);
     const Setup s = spiky(spikes);
-    TourStats stats;
-    auto tour = build_tour(s.mesh, s.paths, &stats);
-    REQUIRE(tour.ok());
-    std::vector<std::uint32_t> sorted = tour->visits;
+    auto built = build_tour(s.mesh, s.paths);
+    REQUIRE(built.ok());
+    const Tour& tour = built->tour;
+    const TourStats& stats = built->stats;
+    std::vector<std::uint32_t> sorted = tour.visits;
     std::sort(sorted.begin(), sorted.end());
     std::vector<std::uint32_t> all(s.paths.size());
     std::iota(all.begin(), all.end(), 0u);
     CHECK(sorted == all);
-    REQUIRE(tour->pieces.size() == tour->visits.size());
-    for (std::size_t i = 0; i < tour->visits.size(); ++i) {
-      REQUIRE_FALSE(tour->pieces[i].empty());
-      CHECK(s.mesh.tail(tour->pieces[i].front()) == s.paths.terminals[tour->visits[i]]);
-      CHECK(s.mesh.head(tour->pieces[i].back()) ==
-            s.paths.terminals[tour->visits[(i + 1) % tour->visits.size()]]);
+    REQUIRE(tour.pieces.size() == tour.visits.size());
+    for (std::size_t i = 0; i < tour.visits.size(); ++i) {
+      REQUIRE_FALSE(tour.pieces[i].empty());
+      CHECK(s.mesh.tail(tour.pieces[i].front()) == s.paths.terminals[tour.visits[i]]);
+      CHECK(s.mesh.head(tour.pieces[i].back()) ==
+            s.paths.terminals[tour.visits[(i + 1) % tour.visits.size()]]);
     }
-    const auto halfedges = tour->halfedges();
+    const auto halfedges = tour.halfedges();
     check_contiguous_closed(s.mesh, halfedges);
     CHECK_FALSE(tour_self_intersects(s.mesh, halfedges));
     CHECK(stats.initial_visits - stats.removals - stats.forced_merges >= s.paths.size());
     // Deterministic.
     auto again = build_tour(s.mesh, s.paths);
     REQUIRE(again.ok());
-    CHECK(again->visits == tour->visits);
-    CHECK(again->pieces == tour->pieces);
+    CHECK(again->tour.visits == tour.visits);
+    CHECK(again->tour.pieces == tour.pieces);
   }
 }
