@@ -33,7 +33,9 @@ void lap(double& total, Clock::time_point& since) {
 // frame of its plane, so that the Jacobian of the map is J = sum_k uv_k g_k^T.
 struct TriangleOperator {
   double area = 0;
-  std::array<Vec2, 3> grad;
+  std::array<Vec2, 2> grad12;  // of corners 1 and 2; corner 0's is minus their sum (40 B, not 56)
+
+  Vec2 grad(int k) const { return k == 0 ? Vec2(-(grad12[0] + grad12[1])) : grad12[static_cast<std::size_t>(k - 1)]; }
 };
 
 std::vector<TriangleOperator> triangle_operators(const DiscPatch& patch) {
@@ -48,16 +50,15 @@ std::vector<TriangleOperator> triangle_operators(const DiscPatch& patch) {
     op.area = 0.5 * std::abs(det);
     if (!(std::abs(det) > 0)) continue;  // a sliver of zero area: no gradient, no energy
     const Eigen::Matrix2d inv = edges.inverse();
-    op.grad[1] = inv.row(0).transpose();
-    op.grad[2] = inv.row(1).transpose();
-    op.grad[0] = -(op.grad[1] + op.grad[2]);
+    op.grad12[0] = inv.row(0).transpose();
+    op.grad12[1] = inv.row(1).transpose();
   }
   return ops;
 }
 
 Eigen::Matrix2d jacobian(const TriangleOperator& op, const Triangle& tri, const std::vector<Vec2>& uv) {
   Eigen::Matrix2d j = Eigen::Matrix2d::Zero();
-  for (int k = 0; k < 3; ++k) j += uv[tri[k]] * op.grad[k].transpose();
+  for (int k = 0; k < 3; ++k) j += uv[tri[k]] * op.grad(k).transpose();
   return j;
 }
 
@@ -179,18 +180,18 @@ void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eig
 // energy is translation invariant). Anisotropic proxy: (u, v) of vertices 1..n-1 interleaved,
 // each vertex a 2x2 block. Isotropic proxy: one unknown per vertex and two right-hand sides.
 // The pattern is fixed, so the lower triangle's value slots are located once (32-bit, only the
-// entries the block size uses: 36 MB at 1M faces instead of 288) and the symbolic
+// entries between distinct vertices: 12 MB at 1M faces instead of 288) and the symbolic
 // factorization is done once.
 class ProxySystem {
  public:
-  ProxySystem(const DiscPatch& patch, int block) : patch_(patch), block_(block), per_triangle_(9 * block * block) {
+  ProxySystem(const DiscPatch& patch, int block) : patch_(patch), block_(block), per_triangle_(3 * block * block) {
     const auto nfree = static_cast<Eigen::Index>(block * (patch.num_vertices() - 1));
     system_.resize(nfree, nfree);
     std::vector<Eigen::Triplet<double>> pattern;
     pattern.reserve(patch.triangles.size() * (block == 2 ? 21 : 6));
     for_each_lower_entry([&](std::size_t, std::size_t, Eigen::Index row, Eigen::Index col) {
       pattern.emplace_back(row, col, 0.0);
-    });
+    }, true);
     system_.setFromTriplets(pattern.begin(), pattern.end());
     system_.makeCompressed();
     pattern = {};
@@ -202,10 +203,13 @@ class ProxySystem {
       const auto* it = std::lower_bound(begin, end, static_cast<int>(row));
       SEAM_ASSERT(it != end && *it == row);
       slot_[t * per_triangle_ + entry] = static_cast<std::int32_t>(it - system_.innerIndexPtr());
-    });
-    // The first entry of each lower-triangle column is its diagonal (where holding springs go).
+    }, false);
+    // The first entry of each lower-triangle column is its diagonal (where holding springs go);
+    // with 2x2 blocks, the second entry of a u column is the same vertex's v row.
     for (Eigen::Index col = 0; col < nfree; ++col) {
-      SEAM_ASSERT(system_.innerIndexPtr()[system_.outerIndexPtr()[col]] == col);
+      const auto first = system_.outerIndexPtr()[col];
+      SEAM_ASSERT(system_.innerIndexPtr()[first] == col);
+      SEAM_ASSERT(block == 1 || col % 2 == 1 || system_.innerIndexPtr()[first + 1] == col + 1);
     }
     rhs_.resize(nfree, block == 2 ? 1 : 2);
     // One analysis, one factorization per step (and per held-vertex re-solve): nested
@@ -276,25 +280,44 @@ class ProxySystem {
     return block_ == 2 ? m(unknown(v, c), 0) : m(unknown(v, 0), c);
   }
 
-  // Calls f(t, entry, row, col) for every lower-triangle entry triangle t touches, entry =
-  // (3k + l) block^2 + block a + b for corners k, l and components a, b.
+  // The slot entry of corners k != l and components a, b: the corner pair (k + l - 1), then
+  // the components.
+  std::size_t entry(int k, int l, int a, int b) const {
+    return static_cast<std::size_t>((k + l - 1) * block_ * block_ + block_ * a + b);
+  }
+
+  // Calls f(t, entry, row, col) for every lower-triangle entry triangle t touches between two
+  // of its corners (and, with `same_vertex`, within one corner's block too; entry is then
+  // meaningless).
   template <class F>
-  void for_each_lower_entry(F&& f) const {
+  void for_each_lower_entry(F&& f, bool same_vertex) const {
     for (std::size_t t = 0; t < patch_.triangles.size(); ++t) {
       const Triangle& tri = patch_.triangles[t];
       for (int k = 0; k < 3; ++k) {
         for (int l = 0; l < 3; ++l) {
-          if (tri[k] == 0 || tri[l] == 0) continue;
+          if (tri[k] == 0 || tri[l] == 0 || (k == l && !same_vertex)) continue;
           for (int a = 0; a < block_; ++a) {
             for (int b = 0; b < block_; ++b) {
               const Eigen::Index row = unknown(tri[k], a);
               const Eigen::Index col = unknown(tri[l], b);
-              if (row >= col) f(t, static_cast<std::size_t>((3 * k + l) * block_ * block_ + block_ * a + b), row, col);
+              if (row >= col) f(t, k == l ? 0 : entry(k, l, a, b), row, col);
             }
           }
         }
       }
     }
+  }
+
+  // Index into the values of the entry (corner k, component a; corner l, component c) of
+  // triangle t, or -1 in the upper triangle. Within a vertex's own block the entries sit at
+  // fixed places of its columns (see the constructor); the others come from the slots.
+  std::int64_t value_index(std::size_t t, int k, int l, int a, int c) const {
+    const Triangle& tri = patch_.triangles[t];
+    const Eigen::Index row = unknown(tri[k], a);
+    const Eigen::Index col = unknown(tri[l], c);
+    if (row < col) return -1;
+    if (k == l) return system_.outerIndexPtr()[col] + (row - col);
+    return slot_[t * per_triangle_ + entry(k, l, a, c)];
   }
 
   void add_triangle(std::size_t t, const TriangleOperator& op, const std::vector<Vec2>& uv, double cap) {
@@ -304,12 +327,11 @@ class ProxySystem {
     proxy_weights(jacobian(op, tri, uv), cap, m, r);
     if (block_ == 1) m = 0.5 * m.trace() * Eigen::Matrix2d::Identity();
     const Eigen::Matrix2d mr = m * r;
-    const std::int32_t* slots = &slot_[t * per_triangle_];
     for (int k = 0; k < 3; ++k) {
       if (tri[k] == 0) continue;
-      const Vec2 b = op.area * (mr * op.grad[k]);
+      const Vec2 b = op.area * (mr * op.grad(k));
       for (int l = 0; l < 3; ++l) {
-        const Eigen::Matrix2d coefficient = (op.area * op.grad[k].dot(op.grad[l])) * m;
+        const Eigen::Matrix2d coefficient = (op.area * op.grad(k).dot(op.grad(l))) * m;
         if (tri[l] == 0) {
           // The pinned vertex moves to the right-hand side.
           const Vec2 pinned = coefficient * uv[0];
@@ -319,7 +341,7 @@ class ProxySystem {
         }
         for (int a = 0; a < block_; ++a) {
           for (int c = 0; c < block_; ++c) {
-            const std::int32_t s = slots[(3 * k + l) * block_ * block_ + block_ * a + c];
+            const std::int64_t s = value_index(t, k, l, a, c);
             if (s >= 0) system_.valuePtr()[s] += coefficient(a, c);
           }
         }
