@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "core/paths/geodesic.h"
-#include "core/paths/indexed_heap.h"
+#include "core/paths/dijkstra_kernel.h"
 #include "core/mesh/topology.h"
 
 namespace seam::core {
@@ -23,6 +23,33 @@ constexpr std::uint32_t kNone = VertexId::kInvalidValue;
 struct Component {
   std::vector<std::uint32_t> vertices;  // ascending vertex ids; local index = position here
   double area = 0;
+};
+
+// relax_from's visitor: vertices in a component's local numbering, one distance array.
+template <class OnImprove>
+struct LocalVisitor {
+  const Component& comp;
+  const std::vector<std::uint32_t>& local_of;
+  std::vector<double>& dist;
+  IndexedHeap& heap;
+  OnImprove& on_improve;
+  std::size_t max_settled;
+  double* last_settled;
+
+  SettleAction settle(std::uint32_t v, double) {
+    if (last_settled) *last_settled = dist[v];
+    return max_settled-- == 0 ? SettleAction::kStop : SettleAction::kExpand;
+  }
+  double distance(std::uint32_t v) const { return dist[v]; }
+  std::uint32_t graph_vertex(std::uint32_t v) const { return comp.vertices[v]; }
+  void relax(std::uint32_t v, std::uint32_t head, double nd, std::uint32_t) {
+    const std::uint32_t w = local_of[head];
+    if (nd < dist[w]) {
+      dist[w] = nd;
+      on_improve(w, v);
+      heap.push_or_decrease(w);
+    }
+  }
 };
 
 // Dijkstra on one component in local indices from one or more sources. `distance` holds
@@ -44,25 +71,8 @@ Status relax_from(const EdgeGraph& graph, const Component& comp, const std::vect
     on_improve(source, kNone);
     heap.push_or_decrease(source);
   }
-  std::uint32_t polls = 0;
-  while (!heap.empty()) {
-    if (cancel.poll(polls)) return cancelled_error("extrema detection");
-    const std::uint32_t v = heap.pop();
-    const double d = distance[v];
-    if (last_settled) *last_settled = d;
-    if (max_settled-- == 0) break;
-    const std::uint32_t gv = comp.vertices[v];
-    for (std::uint32_t slot = graph.offsets[gv]; slot < graph.offsets[gv + 1]; ++slot) {
-      const std::uint32_t w = local_of[graph.head[slot].index()];
-      const double nd = d + graph.weight[slot];
-      if (nd < distance[w]) {
-        distance[w] = nd;
-        on_improve(w, v);
-        heap.push_or_decrease(w);
-      }
-    }
-  }
-  return Ok{};
+  LocalVisitor<OnImprove> visitor{comp, local_of, distance, heap, on_improve, max_settled, last_settled};
+  return run_dijkstra(graph, heap, visitor, cancel, "extrema detection");
 }
 
 template <class OnImprove>

@@ -1,6 +1,6 @@
 #include "core/paths/geodesic.h"
 
-#include "core/paths/indexed_heap.h"
+#include "core/paths/dijkstra_kernel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,6 +38,44 @@ EdgeGraph build_edge_graph(const HalfedgeMesh& mesh, std::span<const double> edg
   return graph;
 }
 
+
+namespace {
+
+// dijkstra()'s visitor: one distance array in the tree, an IndexedHeap over it.
+struct TreeVisitor {
+  const EdgeGraph& graph;
+  ShortestPathTree& tree;
+  IndexedHeap& heap;
+  const DijkstraOptions& options;
+  const std::vector<std::uint8_t>& is_target;
+  const std::vector<std::uint8_t>& is_source;
+  std::vector<std::uint32_t>& unsettled;
+  std::size_t& targets_left;
+
+  SettleAction settle(std::uint32_t v, double d) {
+    if (d > options.max_distance) {
+      unsettled.push_back(v);
+      return SettleAction::kStop;
+    }
+    if (!is_target.empty() && is_target[v] && --targets_left == 0) return SettleAction::kStop;
+    if (!options.blocked.empty() && options.blocked[v] && !is_source[v]) return SettleAction::kSkip;
+    return SettleAction::kExpand;
+  }
+  double distance(std::uint32_t v) const { return tree.distance[v]; }
+  static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
+  void relax(std::uint32_t v, std::uint32_t w, double nd, std::uint32_t slot) {
+    // With non-negative weights a settled w has distance[w] <= d <= nd, so it is never
+    // decreased again.
+    if (nd < tree.distance[w]) {
+      tree.distance[w] = nd;
+      tree.parent[w] = graph.halfedge[slot];
+      tree.source[w] = tree.source[v];
+      heap.push_or_decrease(w);
+    }
+  }
+};
+
+}  // namespace
 
 Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const VertexId> sources,
                                   const DijkstraOptions& options, const CancelToken& cancel) {
@@ -79,30 +117,10 @@ Result<ShortestPathTree> dijkstra(const EdgeGraph& graph, std::span<const Vertex
     heap.push_or_decrease(s);
   }
 
-  std::uint32_t polls = 0;
   std::vector<std::uint32_t> unsettled;  // popped beyond max_distance or left in the heap
-  while (!heap.empty()) {
-    if (cancel.poll(polls)) return cancelled_error("shortest paths");
-    const std::uint32_t v = heap.pop();
-    const double d = tree.distance[v];
-    if (d > options.max_distance) {
-      unsettled.push_back(v);
-      break;
-    }
-    if (!is_target.empty() && is_target[v] && --targets_left == 0) break;
-    if (!options.blocked.empty() && options.blocked[v] && !is_source[v]) continue;
-    for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
-      const std::uint32_t w = graph.head[slot].value();
-      const double nd = d + graph.weight[slot];
-      // With non-negative weights a settled w has distance[w] <= d <= nd, so it is never
-      // decreased again.
-      if (nd < tree.distance[w]) {
-        tree.distance[w] = nd;
-        tree.parent[w] = graph.halfedge[slot];
-        tree.source[w] = tree.source[v];
-        heap.push_or_decrease(w);
-      }
-    }
+  TreeVisitor visitor{graph, tree, heap, options, is_target, is_source, unsettled, targets_left};
+  if (auto status = run_dijkstra(graph, heap, visitor, cancel, "shortest paths"); !status.ok()) {
+    return status.take_error();
   }
   // Everything still in the heap (and a vertex popped beyond max_distance) was only reached
   // tentatively: report it as unreached.

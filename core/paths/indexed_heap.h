@@ -1,5 +1,5 @@
-// A 4-ary indexed min-heap of vertex indices with decrease-key, shared by the Dijkstra
-// searches of core/paths/geodesic.cpp and core/extrema/extrema.cpp.
+// A 4-ary indexed min-heap of vertex indices with decrease-key, for the Dijkstra searches
+// of core/paths/dijkstra_kernel.h that keep one distance array (geodesic.cpp, extrema.cpp).
 #pragma once
 
 #include <algorithm>
@@ -19,6 +19,8 @@ class IndexedHeap {
 
   IndexedHeap(const std::vector<double>& key, std::size_t size) : key_(key), position_(size, kNone) {}
   bool empty() const { return heap_.empty(); }
+  /// The key the heap orders v by (the caller's distance array).
+  double key(std::uint32_t v) const { return key_[v]; }
 
   void push_or_decrease(std::uint32_t v) {
     std::uint32_t i = position_[v];

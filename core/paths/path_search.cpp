@@ -63,29 +63,31 @@ void PathSearch::add_source(VertexId v, double offset) {
     dist_[i] = offset;
     parent_[i] = HalfedgeId();
     is_source_[i] = 1;
-    heap_.emplace_back(offset, i);
-    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+    heap_.push(offset, i);
   }
 }
 
-template <class Key>
-void PathSearch::relax(std::uint32_t v, double d, Key&& key) {
-  if (mark_[v] == kBlocked && !is_source_[v]) return;
-  const auto& g = *graph_;
-  for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {
-    const std::uint32_t w = g.head[slot].value();
-    if (mark_[w] == kForbidden) continue;
-    touch(w);
-    if (settled_[w]) continue;
-    const double nd = d + g.weight[slot];
-    if (nd < dist_[w]) {
-      dist_[w] = nd;
-      parent_[w] = g.halfedge[slot];
-      heap_.emplace_back(key(w, nd), w);
-      std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+template <class OnSettle, class Key>
+struct PathSearch::Visitor {
+  PathSearch& search;
+  OnSettle on_settle;
+  Key key;
+
+  SettleAction settle(std::uint32_t v, double popped_key) { return on_settle(v, popped_key); }
+  double distance(std::uint32_t v) const { return search.dist_[v]; }
+  static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
+  void relax(std::uint32_t /*v*/, std::uint32_t w, double nd, std::uint32_t slot) {
+    PathSearch& s = search;
+    if (s.mark_[w] == kForbidden) return;
+    s.touch(w);
+    if (s.settled_[w]) return;
+    if (nd < s.dist_[w]) {
+      s.dist_[w] = nd;
+      s.parent_[w] = s.graph_->halfedge[slot];
+      s.heap_.push(key(w, nd), w);
     }
   }
-}
+};
 
 Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
                             const CancelToken& cancel) {
@@ -95,51 +97,39 @@ Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distan
     is_target_[t.index()] = 1;
   }
   if (nearest_only && targets_left > 1) targets_left = 1;
-  auto clear_targets = [&] {
-    for (VertexId t : targets) is_target_[t.index()] = 0;
-  };
-  std::uint32_t polls = 0;
-  while (!heap_.empty()) {
-    if (cancel.poll(polls)) {
-      clear_targets();
-      return cancelled_error("shortest-path search");
-    }
-    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-    const auto [d, v] = heap_.back();
-    heap_.pop_back();
-    if (settled_[v] || d > dist_[v]) continue;
-    if (d > max_distance) break;
+  auto on_settle = [&](std::uint32_t v, double d) {
+    if (settled_[v] || d > dist_[v]) return SettleAction::kSkip;  // stale entry
+    if (d > max_distance) return SettleAction::kStop;
     settled_[v] = 1;
     settled_order_.push_back(VertexId(v));
-    if (settled_order_.size() >= max_settled_) break;
-    if (is_target_[v] && --targets_left == 0) break;
-    relax(v, d, [](std::uint32_t, double nd) { return nd; });
-  }
-  clear_targets();
-  return Ok{};
+    if (settled_order_.size() >= max_settled_) return SettleAction::kStop;
+    if (is_target_[v] && --targets_left == 0) return SettleAction::kStop;
+    return expand_unless_blocked(v);
+  };
+  auto key = [](std::uint32_t, double nd) { return nd; };
+  Visitor<decltype(on_settle), decltype(key)> visitor{*this, on_settle, key};
+  Status status = run_dijkstra(*graph_, heap_, visitor, cancel, "shortest-path search");
+  for (VertexId t : targets) is_target_[t.index()] = 0;
+  return status;
 }
 
 Status PathSearch::run_astar(VertexId target, std::span<const Vec3> positions, const CancelToken& cancel) {
   // The heap holds (g + h, v); sources were pushed with h = 0, so re-key them first.
   const Vec3 goal = positions[target.index()];
   auto estimate = [&](std::uint32_t v) { return (positions[v] - goal).norm(); };
-  for (auto& entry : heap_) entry.first += estimate(entry.second);
-  std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
-  std::uint32_t polls = 0;
+  heap_.rekey(estimate);
   const std::uint32_t t = target.value();
-  while (!heap_.empty()) {
-    if (cancel.poll(polls)) return cancelled_error("shortest-path search");
-    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-    const std::uint32_t v = heap_.back().second;
-    heap_.pop_back();
-    if (settled_[v]) continue;
+  auto on_settle = [&](std::uint32_t v, double) {
+    if (settled_[v]) return SettleAction::kSkip;
     // With a consistent estimate the first pop of v carries its final distance.
     settled_[v] = 1;
     settled_order_.push_back(VertexId(v));
-    if (v == t) break;
-    relax(v, dist_[v], [&](std::uint32_t w, double nd) { return nd + estimate(w); });
-  }
-  return Ok{};
+    if (v == t) return SettleAction::kStop;
+    return expand_unless_blocked(v);
+  };
+  auto key = [&](std::uint32_t w, double nd) { return nd + estimate(w); };
+  Visitor<decltype(on_settle), decltype(key)> visitor{*this, on_settle, key};
+  return run_dijkstra(*graph_, heap_, visitor, cancel, "shortest-path search");
 }
 
 std::vector<HalfedgeId> PathSearch::path_to(const HalfedgeMesh& mesh, VertexId v) const {

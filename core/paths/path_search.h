@@ -12,6 +12,7 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
+#include "core/paths/dijkstra_kernel.h"
 #include "core/paths/geodesic.h"
 #include "core/mesh/halfedge_mesh.h"
 
@@ -87,10 +88,14 @@ class PathSearch {
   static constexpr std::uint8_t kForbidden = 2;
 
   void touch(std::uint32_t v);
-  // Relaxes the edges out of the just-settled vertex v at distance d, pushing each improved
-  // neighbour w with heap key key(w, new distance). Blocked non-source vertices are not expanded.
-  template <class Key>
-  void relax(std::uint32_t v, double d, Key&& key);
+  // The visitor of run_dijkstra (dijkstra_kernel.h): `OnSettle` decides for a popped entry,
+  // `Key(w, nd)` is the heap key of an improved vertex (nd, or nd plus the A* estimate).
+  template <class OnSettle, class Key>
+  struct Visitor;
+  // Settled v is expanded unless it is blocked and not a source.
+  SettleAction expand_unless_blocked(std::uint32_t v) const {
+    return mark_[v] == kBlocked && !is_source_[v] ? SettleAction::kSkip : SettleAction::kExpand;
+  }
   Status run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
                   const CancelToken& cancel);
 
@@ -104,7 +109,7 @@ class PathSearch {
   std::vector<std::uint32_t> marked_;
   std::vector<std::uint32_t> touched_;
   std::vector<VertexId> settled_order_;
-  std::vector<std::pair<double, std::uint32_t>> heap_;
+  LazyHeap heap_;
   std::vector<std::uint8_t> is_target_;
   std::uint32_t generation_ = 1;
   std::size_t max_settled_ = SIZE_MAX;

@@ -4,11 +4,11 @@
 #include <bit>
 #include <limits>
 #include <numeric>
-#include <queue>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/paths/dijkstra_kernel.h"
 #include "core/paths/dreyfus_wagner.h"
 #include "core/paths/forest.h"
 
@@ -43,8 +43,36 @@ Status validate_terminals(const EdgeGraph& graph, std::span<const VertexId> term
   return Ok{};
 }
 
-using Entry = std::pair<double, std::uint32_t>;
-using MinQueue = std::priority_queue<Entry, std::vector<Entry>, std::greater<>>;
+// greedy_seam's search from the tree: stops at the first pending terminal it settles.
+// Distances start at kInf; `touched` lists what to reset for the next search.
+struct NearestVisitor {
+  const EdgeGraph& graph;
+  const std::vector<std::uint8_t>& pending;
+  std::vector<double>& dist;
+  std::vector<HalfedgeId>& parent;
+  std::vector<std::uint8_t>& settled;
+  std::vector<std::uint32_t>& touched;
+  LazyHeap& queue;
+  std::uint32_t found = VertexId::kInvalidValue;
+
+  SettleAction settle(std::uint32_t v, double d) {
+    if (settled[v] || d > dist[v]) return SettleAction::kSkip;  // stale entry
+    settled[v] = 1;
+    if (!pending[v]) return SettleAction::kExpand;
+    found = v;
+    return SettleAction::kStop;
+  }
+  double distance(std::uint32_t v) const { return dist[v]; }
+  static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
+  void relax(std::uint32_t, std::uint32_t w, double nd, std::uint32_t slot) {
+    if (nd < dist[w]) {
+      if (dist[w] == kInf) touched.push_back(w);
+      dist[w] = nd;
+      parent[w] = graph.halfedge[slot];
+      queue.push(nd, w);
+    }
+  }
+};
 
 }  // namespace
 
@@ -90,35 +118,18 @@ Result<SteinerTree> greedy_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph
   std::vector<std::uint32_t> touched;
   std::uint32_t polls = 0;
   while (left > 0) {
-    MinQueue queue;
+    LazyHeap queue;
     for (VertexId v : tree_vertices) {
       dist[v.index()] = 0;
       parent[v.index()] = HalfedgeId();
       touched.push_back(v.value());
-      queue.emplace(0.0, v.value());
+      queue.push(0.0, v.value());
     }
-    std::uint32_t found = VertexId::kInvalidValue;
-    while (!queue.empty()) {
-      if (cancel.poll(polls)) return cancelled_error("greedy seam");
-      const auto [d, v] = queue.top();
-      queue.pop();
-      if (settled[v] || d > dist[v]) continue;
-      settled[v] = 1;
-      if (pending[v]) {
-        found = v;
-        break;
-      }
-      for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
-        const std::uint32_t w = graph.head[slot].value();
-        const double nd = d + graph.weight[slot];
-        if (nd < dist[w]) {
-          if (dist[w] == kInf) touched.push_back(w);
-          dist[w] = nd;
-          parent[w] = graph.halfedge[slot];
-          queue.emplace(nd, w);
-        }
-      }
+    NearestVisitor visitor{graph, pending, dist, parent, settled, touched, queue};
+    if (auto status = run_dijkstra(graph, queue, visitor, cancel, "greedy seam", polls); !status.ok()) {
+      return status.take_error();
     }
+    const std::uint32_t found = visitor.found;
     if (found == VertexId::kInvalidValue) {
       return make_error(ErrorCode::kInvalidArgument, "greedy seam: the terminals are not all connected");
     }

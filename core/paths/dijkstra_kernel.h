@@ -1,0 +1,104 @@
+// The one Dijkstra loop of core/paths, core/seam and core/extrema: pop the nearest entry,
+// decide whether it settles, relax its out-edges. What differs between the searches (where
+// distances live, what ends a search, which vertices are closed, A* keys) is a small
+// visitor; which heap orders the frontier is a template argument.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/paths/geodesic.h"
+#include "core/paths/indexed_heap.h"
+
+namespace seam::core {
+
+/// A binary min-heap of (key, vertex) with lazy deletion: a vertex may be pushed again with
+/// a smaller key and its older entries are popped later and skipped by the visitor (stale).
+/// Ties are ordered by vertex index, like IndexedHeap, so both settle vertices in one order.
+class LazyHeap {
+ public:
+  using Entry = std::pair<double, std::uint32_t>;
+
+  bool empty() const { return heap_.empty(); }
+  void clear() { heap_.clear(); }
+  void push(double key, std::uint32_t v) {
+    heap_.emplace_back(key, v);
+    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+  }
+  Entry pop() {
+    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+    const Entry top = heap_.back();
+    heap_.pop_back();
+    return top;
+  }
+  /// Adds `delta(v)` to every key and restores the heap order (A* re-keying of sources).
+  template <class Delta>
+  void rekey(Delta&& delta) {
+    for (auto& entry : heap_) entry.first += delta(entry.second);
+    std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
+  }
+
+ private:
+  std::vector<Entry> heap_;
+};
+
+/// What a visitor decides for a popped entry.
+enum class SettleAction : std::uint8_t {
+  kExpand,  ///< v is settled: relax its out-edges
+  kSkip,    ///< stale entry, or settled but closed (blocked): pop the next one
+  kStop,    ///< the search is over (target reached, beyond a limit); the heap is left as is
+};
+
+namespace detail {
+inline std::pair<std::uint32_t, double> pop_min(IndexedHeap& heap) {
+  const std::uint32_t v = heap.pop();
+  return {v, heap.key(v)};
+}
+inline std::pair<std::uint32_t, double> pop_min(LazyHeap& heap) {
+  const auto [key, v] = heap.pop();
+  return {v, key};
+}
+}  // namespace detail
+
+/// Runs the search until `heap` is empty or the visitor stops it. The visitor provides
+///   SettleAction settle(std::uint32_t v, double key): v was popped with `key`;
+///   double distance(std::uint32_t v): v's settled distance (read after kExpand);
+///   std::uint32_t graph_vertex(std::uint32_t v): v's vertex in `graph` (v's own index space
+///     may differ, e.g. a component's local numbering);
+///   void relax(std::uint32_t v, std::uint32_t w, double nd, std::uint32_t slot): the edge
+///     graph.head[slot] = w (a vertex of `graph`) out of v offers w the distance nd; the
+///     visitor compares, records and pushes.
+/// Out-edges are relaxed in slot order. `cancel` is polled once per popped entry (stale ones
+/// included) through `polls`. Errors: kCancelled (message names `what`).
+template <class Heap, class Visitor>
+Status run_dijkstra(const EdgeGraph& graph, Heap& heap, Visitor& visitor, const CancelToken& cancel,
+                    const char* what, std::uint32_t& polls) {
+  while (!heap.empty()) {
+    if (cancel.poll(polls)) return cancelled_error(what);
+    const auto [v, key] = detail::pop_min(heap);
+    const SettleAction action = visitor.settle(v, key);
+    if (action == SettleAction::kStop) break;
+    if (action == SettleAction::kSkip) continue;
+    const double d = visitor.distance(v);
+    const std::uint32_t gv = visitor.graph_vertex(v);
+    for (std::uint32_t slot = graph.offsets[gv]; slot < graph.offsets[gv + 1]; ++slot) {
+      visitor.relax(v, graph.head[slot].value(), d + graph.weight[slot], slot);
+    }
+  }
+  return Ok{};
+}
+
+/// The same with a poll counter that starts at zero for this search.
+template <class Heap, class Visitor>
+Status run_dijkstra(const EdgeGraph& graph, Heap& heap, Visitor& visitor, const CancelToken& cancel,
+                    const char* what) {
+  std::uint32_t polls = 0;
+  return run_dijkstra(graph, heap, visitor, cancel, what, polls);
+}
+
+}  // namespace seam::core
