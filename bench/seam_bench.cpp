@@ -4,10 +4,13 @@
 //   cmake -DSEAM_BUILD_BENCH=ON ... && ninja seam_bench
 //   ./bench/seam_bench [--quick] [--lengths] [--timings] [--skeleton-only] [--mesh NAME ...]
 //   --skeleton-only: the timing table without the mst, greedy and optimal columns
+//   --fingerprint: after each length row, every method's exact length (%.17g), seam edge
+//     count and an FNV-1a hash of its seam edge ids, to show that a refactor changed nothing
 //
 // Extrema rule (deterministic): farthest-point sampling by edge-graph distance, starting from
 // the vertex farthest from the smallest non-isolated vertex (tests/seam_fixtures.h).
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <cstring>
@@ -34,6 +37,18 @@ Result<HalfedgeMesh> build(const IndexedMesh& soup) {
 
 constexpr SeamMethod kMethods[] = {SeamMethod::kSkeleton, SeamMethod::kMst, SeamMethod::kGreedy,
                                    SeamMethod::kOptimal};
+
+bool g_fingerprint = false;
+
+// FNV-1a over the edge ids in the order compute_seam returns them.
+std::uint64_t edge_hash(const std::vector<EdgeId>& edges) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (EdgeId e : edges) {
+    h ^= e.value();
+    h *= 1099511628211ull;
+  }
+  return h;
+}
 
 void length_table(bool quick, const std::vector<std::string>& only) {
   std::printf("\n## Seam length per method through compute_seam (extrema: farthest-point sampling)\n\n");
@@ -62,6 +77,7 @@ void length_table(bool quick, const std::vector<std::string>& only) {
       const char* status[4] = {"", "", "", ""};
       double cut_graph = 0;
       bool leaf = true;
+      std::string fingerprint;
       for (int m = 0; m < 4; ++m) {
         Result<SeamResult> r = make_error(ErrorCode::kInvalidArgument, "not run");
         ms[m] = bench::best_ms(1, [&] { r = compute_seam(mesh, extrema, {.method = kMethods[m]}); });
@@ -72,6 +88,10 @@ void length_table(bool quick, const std::vector<std::string>& only) {
         }
         length[m] = r->length;
         cut_graph = r->cut_graph_length;
+        char fp[96];
+        std::snprintf(fp, sizeof fp, " m%d %.17g %zu %016llx", m, r->length, r->seam_edges.size(),
+                      static_cast<unsigned long long>(edge_hash(r->seam_edges)));
+        fingerprint += fp;
         if (m == 0) {
           std::vector<int> degree(mesh.num_vertices(), 0);
           std::vector<std::uint8_t> on_cut(mesh.num_vertices(), 0);
@@ -108,6 +128,7 @@ void length_table(bool quick, const std::vector<std::string>& only) {
       std::printf("| %s | %zu | %d | %zu | %zu | %.4f | %s | %s | %s | %s | %s | %s | %s | %s | %.1f | %.1f |\n",
                   name.c_str(), mesh.num_faces(), topo.total_genus(), topo.boundary_loops.size(), extrema.size(),
                   cut_graph, cell(0), cell(1), cell(2), cell(3), r1, r2, r3, leaf ? "yes" : "NO", ms[0], ms[3]);
+      if (g_fingerprint) std::printf("fingerprint %s k=%zu:%s\n", name.c_str(), k, fingerprint.c_str());
       std::fflush(stdout);
     }
   }
@@ -229,6 +250,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--lengths")) timings = false;
     if (!std::strcmp(argv[i], "--timings")) lengths = false;
     if (!std::strcmp(argv[i], "--skeleton-only")) skeleton_only = true;
+    if (!std::strcmp(argv[i], "--fingerprint")) g_fingerprint = true;
   }
   if (lengths) length_table(quick, only);
   if (timings) timing_table(quick, skeleton_only);
