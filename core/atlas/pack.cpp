@@ -444,7 +444,7 @@ Layout rectangle_layout(const Prepared& prepared, double margin_fraction, bool r
 void try_profile_layout(std::span<const PackChart> charts, const Prepared& prepared, double margin_fraction,
                         bool rotate_charts, Layout& layout) {
   const std::size_t n = charts.size();
-  if (n > kMaxProfileCharts) return;
+  if (n < 2 || n > kMaxProfileCharts) return;  // one chart: see try_raster_layout
   std::vector<detail::ProfileChart> profile(n);
   for (std::size_t c = 0; c < n; ++c) {
     const MinAreaRect& r = prepared.rect[c];
@@ -475,7 +475,8 @@ std::vector<double> raster_angles(const Prepared& prepared, std::size_t c, std::
 void try_raster_layout(std::span<const PackChart> charts, const Prepared& prepared, double margin_fraction,
                        bool rotate_charts, Layout& layout) {
   const std::size_t n = charts.size();
-  if (n > kMaxRasterCharts) return;
+  // One chart: the rectangle layout already holds it in its smallest enclosing square.
+  if (n < 2 || n > kMaxRasterCharts) return;
   std::vector<detail::RasterChart> raster(n);
   for (std::size_t c = 0; c < n; ++c) {
     raster[c] = {charts[c].uv, charts[c].triangles, prepared.scale[c],
