@@ -6,6 +6,7 @@
 
 #include "core/atlas/overlap.h"
 #include "core/atlas/pack.h"
+#include "core/atlas/split.h"
 
 namespace seam::api {
 namespace {
@@ -45,6 +46,7 @@ struct ChartData {
   std::vector<std::uint32_t> vertices;  // output vertices of the member, in order
   std::vector<core::Vec2> uv;
   std::vector<core::Triangle> triangles;  // over `uv`
+  std::vector<std::uint32_t> triangle_ids;  // each triangle's index in the member's cut
   double area = 0;
 };
 
@@ -57,14 +59,82 @@ std::vector<ChartData> charts_of(const PrimitiveResult& r, std::size_t member) {
     c.vertices.push_back(v);
     c.uv.emplace_back(r.cut.uv[v][0], r.cut.uv[v][1]);
   }
-  for (const auto& t : r.cut.triangles) {
+  for (std::uint32_t i = 0; i < r.cut.triangles.size(); ++i) {
+    const core::Triangle& t = r.cut.triangles[i];
     charts[r.chart[t[0]]].triangles.push_back({local[t[0]], local[t[1]], local[t[2]]});
+    charts[r.chart[t[0]]].triangle_ids.push_back(i);
   }
   for (std::size_t c = 0; c < charts.size(); ++c) {
     charts[c].member = member;
     charts[c].area = r.chart_area[c];
   }
   return charts;
+}
+
+// The member's charts with area (charts of faces degenerate in 3D only, a collapsed face whose
+// vertices are in no other face, have none to pack and keep their zero-area place).
+std::vector<ChartData> packable_charts(const PrimitiveResult& r, std::size_t member) {
+  std::vector<ChartData> out;
+  for (auto& c : charts_of(r, member)) {
+    if (c.area > 0) out.push_back(std::move(c));
+  }
+  return out;
+}
+
+// A piece after the first of its chart becomes a chart of its own: its vertices that an
+// earlier piece holds (on the cut) are duplicated, with the same source vertex and UV.
+void detach_piece(const core::ChartPiece& piece, const ChartData& chart, std::vector<char>& claimed, PrimitiveResult& r) {
+  const auto id = static_cast<std::uint32_t>(r.chart_area.size());
+  r.chart_area.push_back(piece.surface_area);
+  std::map<std::uint32_t, std::uint32_t> vertex_of;  // chart-local vertex -> output vertex
+  for (const std::uint32_t u : piece.vertices) {
+    std::uint32_t g = chart.vertices[u];
+    if (claimed[g] != 0) {
+      const auto copy = static_cast<std::uint32_t>(r.cut.source_vertex.size());
+      r.cut.source_vertex.push_back(r.cut.source_vertex[g]);
+      r.cut.uv.push_back(r.cut.uv[g]);
+      r.chart.push_back(id);
+      claimed.push_back(1);
+      g = copy;
+    }
+    claimed[g] = 1;
+    r.chart[g] = id;
+    vertex_of[u] = g;
+  }
+  std::map<core::Triangle, std::uint32_t> triangle_of;  // chart-local triangle -> cut triangle
+  for (std::size_t i = 0; i < chart.triangles.size(); ++i) triangle_of[chart.triangles[i]] = chart.triangle_ids[i];
+  for (const core::Triangle& t : piece.triangles) {  // over piece.vertices
+    const core::Triangle in_chart{piece.vertices[t[0]], piece.vertices[t[1]], piece.vertices[t[2]]};
+    r.cut.triangles[triangle_of.at(in_chart)] = {vertex_of.at(in_chart[0]), vertex_of.at(in_chart[1]),
+                                                 vertex_of.at(in_chart[2])};
+  }
+}
+
+// pack.split: cuts the member's sprawling charts (core::split_sprawling_charts) in its cut
+// primitive; counts what it did in `outcome`.
+ApiResult<core::Ok> split_member_charts(PrimitiveResult& r, std::size_t member, PackOutcome& outcome) {
+  const std::vector<ChartData> charts = packable_charts(r, member);
+  std::vector<core::PackChart> input;
+  for (const auto& c : charts) input.push_back({c.uv, c.triangles, c.area});
+  auto split = core::split_sprawling_charts(input);
+  if (!split.ok()) {
+    return make_api_error(ApiErrorCode::kInternal, "splitting the UV charts failed: " + split.error().message);
+  }
+  std::vector<char> claimed(r.cut.uv.size(), 0);
+  std::vector<char> seen(charts.size(), 0);
+  for (const core::ChartPiece& piece : split->pieces) {
+    const ChartData& chart = charts[piece.chart];
+    if (seen[piece.chart] == 0) {  // the first piece keeps the chart's id and vertices
+      seen[piece.chart] = 1;
+      r.chart_area[r.chart[chart.vertices[piece.vertices.front()]]] = piece.surface_area;
+      for (const std::uint32_t u : piece.vertices) claimed[chart.vertices[u]] = 1;
+      continue;
+    }
+    detach_piece(piece, chart, claimed, r);
+  }
+  outcome.charts_split = split->charts_split;
+  outcome.split_cut_length = split->cut_length;
+  return core::Ok{};
 }
 
 double orientation(const std::vector<std::array<float, 2>>& uv, const core::Triangle& t) {
@@ -149,11 +219,12 @@ ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const 
     for (std::size_t i = 0; i < members.size(); ++i) {
       outcomes[i].group = group[i];
       if (group[i] != g || members[i].result->cut.uv.empty()) continue;
-      // Charts of faces degenerate in 3D only (a collapsed face whose vertices are in no
-      // other face) have no area to pack; they keep their zero-area place.
-      for (auto& c : charts_of(*members[i].result, i)) {
-        if (c.area > 0) charts.push_back(std::move(c));
+      if (params.enabled && params.split) {
+        SEAM_TRY(core::Ok split, split_member_charts(*members[i].result, i, outcomes[i]));
+        (void)split;
       }
+      for (auto& c : packable_charts(*members[i].result, i)) charts.push_back(std::move(c));
+      outcomes[i].charts = members[i].result->chart_area.size();
     }
     if (charts.empty()) continue;
     double density = 0;

@@ -28,14 +28,20 @@ struct PackOutcome {
   double overlap_area = 0;     ///< area covered twice in its group's layout (exact; 0 expected)
   std::size_t flipped = 0;     ///< its triangles whose orientation the packing's rounding changed
   double texel_density = 0;    ///< texels per unit length at texture_size
+  std::size_t charts = 0;      ///< its charts after packing (and splitting)
+  std::size_t charts_split = 0;  ///< with params.split: its charts that were cut
+  double split_cut_length = 0;   ///< with params.split: length of its new cuts (surface units)
 };
 
 /// Packs the members' new UV sets (members without UVs are skipped) group by group with
 /// core::pack_charts: each chart of each member (PrimitiveResult::chart) scaled to the group's
 /// texel density, rotated, placed margin_px apart. Members are grouped by params.group_by: the
 /// whole asset, the mesh, the primitive's `material` (none is a group of its own), or each
-/// primitive alone. With params.enabled false nothing moves and only the measurements are
-/// made (each primitive its own group). Errors: kInternal (the packer refused a chart: a bug
+/// primitive alone. With params.split, sprawling charts are first cut into pieces
+/// (core::split_sprawling_charts): a piece's vertices on a cut are duplicated in the member's
+/// CutPrimitive (same source vertex and UV), so the output gets the new seams. With
+/// params.enabled false nothing moves and only the measurements are made (each primitive
+/// its own group). Errors: kInternal (the packer refused a chart: a bug
 /// upstream), kTimeout (cancelled). O(UV vertices + triangles) plus the packer's cost.
 ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const std::vector<PackMember>& members,
                                                  const PackParams& params, const core::CancelToken& cancel);

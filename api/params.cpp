@@ -197,9 +197,12 @@ ApiResult<PackParams> pack_from_json(const json& v) {
     } else if (key == "rotate") {
       if (!x.is_boolean()) return invalid("pack.rotate", "pack.rotate must be true or false");
       out.rotate = x.get<bool>();
+    } else if (key == "split") {
+      if (!x.is_boolean()) return invalid("pack.split", "pack.split must be true or false");
+      out.split = x.get<bool>();
     } else {
       return invalid("pack." + key.substr(0, 60), "pack: unknown key \"" + key.substr(0, 60) +
-                                                      "\" (known: group_by, texture_size, margin_px, rotate)");
+                                                      "\" (known: group_by, texture_size, margin_px, rotate, split)");
     }
   }
   if (out.margin_px > out.texture_size / 8.0) {

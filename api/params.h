@@ -43,6 +43,10 @@ struct PackParams {
   int texture_size = 1024;  ///< 16..65536
   double margin_px = 4;     ///< 0..texture_size/8
   bool rotate = true;
+  /// Cut charts that fill under 0.65 of their smallest rectangle (core::split_sprawling_charts)
+  /// before packing: more charts and a longer cut, a fuller atlas. Off by default: one chart
+  /// per component is the paper's premise.
+  bool split = false;
 };
 
 /// `charts`: "seam" (one chart per component, the paper's premise) or "features" (also cut

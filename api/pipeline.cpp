@@ -345,7 +345,12 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
       uv["overlap_area"] = packed[i].overlap_area;
       uv["coverage"] = packed[i].coverage;
       uv["pack_group"] = packed[i].group;
+      uv["charts"] = packed[i].charts;
       if (params.pack.enabled) uv["texel_density"] = packed[i].texel_density;
+      if (params.pack.enabled && params.pack.split) {
+        uv["split"] = {{"charts_split", packed[i].charts_split}, {"cut_length", packed[i].split_cut_length}};
+        summary["cut"]["asset_vertices"] = jobs.results[i]->cut.source_vertex.size();
+      }
     }
     summaries.push_back(std::move(summary));
   }

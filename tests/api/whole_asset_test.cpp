@@ -2,7 +2,9 @@
 // refusals, the atlas (pack groups, one texel density, overlap), charts "features", output svg.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <map>
 #include <set>
 #include <string>
@@ -12,6 +14,7 @@
 #include "api/pipeline.h"
 #include "fixtures.h"
 #include "gltf_test_util.h"
+#include "test_data.h"
 
 namespace {
 
@@ -233,4 +236,84 @@ TEST_CASE("output svg draws every new UV triangle, one group per primitive") {
   auto none = run(asset, {{"output", "svg"}, {"uv", "none"}});
   REQUIRE(!none.ok());
   CHECK(none.error().code == ApiErrorCode::kInvalidParameter);
+}
+
+namespace {
+
+// Output edges used by one triangle: the UV set's chart boundaries (the seam and the cuts).
+std::size_t boundary_edge_count(const std::vector<core::Triangle>& triangles) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (const auto& t : triangles) {
+    for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
+  }
+  return static_cast<std::size_t>(std::count_if(uses.begin(), uses.end(), [](const auto& e) { return e.second == 1; }));
+}
+
+}  // namespace
+
+TEST_CASE("pack split: a sprawling chart is cut into pieces that pack fuller; the surface and its attributes are kept") {
+  const auto elephant = test_data::load_cgal("elephant");
+  auto glb = write_plain_glb(elephant);
+  REQUIRE(glb.ok());
+  const PipelineOutput plain = run_ok(*glb, json::object());
+  const PipelineOutput split = run_ok(*glb, {{"pack", {{"split", true}}}});
+  const json& a = plain.body["uv"];
+  const json& b = split.body["uv"];
+  CHECK(a["charts"] == 1);
+  CHECK(!a.contains("split"));
+  CHECK(b["charts"].get<int>() > 1);
+  CHECK(b["split"]["charts_split"] == 1);
+  CHECK(b["split"]["cut_length"].get<double>() > 0);
+  CHECK(b["coverage"].get<double>() > a["coverage"].get<double>() + 0.05);
+  CHECK(b["overlap_area"] == 0.0);
+  CHECK(b["flipped"] == 0);
+
+  auto doc_a = parse_asset(plain.glb, AssetKind::kGlb);
+  auto doc_b = parse_asset(split.glb, AssetKind::kGlb);
+  REQUIRE(doc_a.ok());
+  REQUIRE(doc_b.ok());
+  auto pa = read_primitive(*doc_a, 0, 0);
+  auto pb = read_primitive(*doc_b, 0, 0);
+  REQUIRE(pa.ok());
+  REQUIRE(pb.ok());
+  // The same triangles in 3D (each output corner at its input position), more vertices (the
+  // cuts duplicate theirs), more chart boundary, one texel density.
+  REQUIRE(pb->mesh.triangles.size() == elephant.triangles.size());
+  CHECK(pb->mesh.positions.size() == split.body["cut"]["asset_vertices"].get<std::size_t>());
+  CHECK(pb->mesh.positions.size() > pa->mesh.positions.size());
+  for (std::size_t f = 0; f < elephant.triangles.size(); f += 97) {
+    for (int k = 0; k < 3; ++k) {
+      CHECK(pb->mesh.positions[pb->mesh.triangles[f][k]] == pa->mesh.positions[pa->mesh.triangles[f][k]]);
+    }
+  }
+  CHECK(boundary_edge_count(pb->mesh.triangles) > boundary_edge_count(pa->mesh.triangles));
+  // Each piece keeps its chart's scale and shape: its UV area against the same faces' UV
+  // area without the split is one factor for every piece (pieces found as the output's
+  // connected components; faces keep their order).
+  std::vector<std::uint32_t> root(pb->mesh.positions.size());
+  std::iota(root.begin(), root.end(), 0u);
+  auto find = [&](std::uint32_t v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
+  };
+  for (const auto& t : pb->mesh.triangles) {
+    root[find(t[1])] = find(t[0]);
+    root[find(t[2])] = find(t[0]);
+  }
+  std::map<std::uint32_t, std::vector<std::size_t>> pieces;
+  for (std::size_t f = 0; f < pb->mesh.triangles.size(); ++f) pieces[find(pb->mesh.triangles[f][0])].push_back(f);
+  CHECK(pieces.size() == b["charts"].get<std::size_t>());
+  auto piece_area = [](const PrimitiveData& p, int channel, const std::vector<std::size_t>& faces) {
+    PrimitiveData piece = p;
+    piece.mesh.triangles.clear();
+    for (const std::size_t f : faces) piece.mesh.triangles.push_back(p.mesh.triangles[f]);
+    return uv_area(piece, channel);
+  };
+  const double scale = uv_area(*pb, b["channel"].get<int>()) / uv_area(*pa, a["channel"].get<int>());
+  for (const auto& [r, faces] : pieces) {
+    CHECK(piece_area(*pb, b["channel"].get<int>(), faces) / piece_area(*pa, a["channel"].get<int>(), faces) ==
+          doctest::Approx(scale).epsilon(1e-3));
+  }
+  std::string report;
+  CHECK_MESSAGE(test_gltf::validator_errors(split.glb, report, "split_out.glb") == 0, report);
 }
