@@ -20,7 +20,11 @@ COPY server server
 # time and embedded into seamd; no browser is downloaded.
 COPY web/package.json web/package-lock.json web/build.mjs web/
 COPY web/src web/src
-RUN PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --prefix web --no-audit --no-fund --loglevel=error
+# Behind a TLS-intercepting proxy, pass its CA bundle as a build secret (never stored in a
+# layer): --secret id=npm_ca,src=/etc/ssl/certs/ca-certificates.crt (container-check.sh does).
+RUN --mount=type=secret,id=npm_ca \
+    if [ -s /run/secrets/npm_ca ]; then export NODE_EXTRA_CA_CERTS=/run/secrets/npm_ca; fi \
+ && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --prefix web --no-audit --no-fund --loglevel=error
 RUN cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WERROR=ON \
       -DSEAM_BUILD_TESTS=OFF -DSEAM_BUILD_SERVER=ON -DSEAM_BUILD_BENCH=OFF \
  && cmake --build build --target seamd -j "$(nproc)" \

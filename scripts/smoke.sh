@@ -42,6 +42,16 @@ code=$(curl -sS -o "$work/r" -w '%{http_code}' "$BASE/readyz") || code=000
 code=$(curl -sS -o "$work/v" -w '%{http_code}' "$BASE/version") || code=000
 [[ "$code" == 200 ]] && pass "GET /version -> 200 $(tr -d '\n' < "$work/v" | cut -c1-80)" || fail "GET /version -> $code"
 
+# --- the viewer: its page and its bundle (a build without Node.js serves a page saying so) ---
+code=$(curl -sS -o "$work/index" -w '%{http_code}' "$BASE/") || code=000
+if [[ "$code" == 200 ]] && grep -q 'src="/viewer.js"' "$work/index"; then
+  code=$(curl -sS -o "$work/viewer.js" -w '%{http_code}' "$BASE/viewer.js") || code=000
+  [[ "$code" == 200 && -s "$work/viewer.js" ]] && pass "GET / and /viewer.js -> 200 ($(wc -c < "$work/viewer.js") bytes of viewer)" \
+    || fail "GET /viewer.js -> $code"
+else
+  fail "GET / -> $code without the viewer's page"
+fi
+
 # --- one seam on the sample (multipart, the curl form) ------------------------------------
 start=$(date +%s.%N)
 code=$(curl -sS -o "$work/seam.json" -D "$work/seam.h" -w '%{http_code}' \
