@@ -120,7 +120,10 @@ Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken&
   if (cancel.is_cancelled()) return cancelled_error("BFF assembly");
 
   // A_II is the Dirichlet Laplacian of a connected disc: positive definite, so LL^T applies.
+  // Nested dissection: one factorization serves four solves, and its 20% smaller factor is what
+  // the default job's peak memory depends on (sparse_cholesky.h).
   SparseCholesky solver;
+  solver.prefer_nested_dissection();
   Eigen::VectorXd u_interior;
   if (num_interior > 0) {
     solver.compute(a_ii);
