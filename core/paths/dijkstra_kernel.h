@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -30,6 +31,7 @@ class LazyHeap {
     heap_.emplace_back(key, v);
     std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
   }
+  const Entry& top() const { return heap_.front(); }
   Entry pop() {
     std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
     const Entry top = heap_.back();
@@ -47,6 +49,28 @@ class LazyHeap {
   std::vector<Entry> heap_;
 };
 
+/// A sorted list of seed entries streamed in order alongside a LazyHeap of improvements:
+/// a multi-source search with many sources (a Dreyfus-Wagner row after merging) pays a sort
+/// instead of a heap push per source. Pops the smaller of the next seed and the heap's top
+/// (ties: the heap's). `seeds` must be sorted and outlive this.
+class SeededHeap {
+ public:
+  using Entry = LazyHeap::Entry;
+
+  SeededHeap(std::span<const Entry> seeds, LazyHeap& heap) : seeds_(seeds), heap_(heap) {}
+  bool empty() const { return next_ >= seeds_.size() && heap_.empty(); }
+  void push(double key, std::uint32_t v) { heap_.push(key, v); }
+  Entry pop() {
+    if (heap_.empty() || (next_ < seeds_.size() && seeds_[next_] < heap_.top())) return seeds_[next_++];
+    return heap_.pop();
+  }
+
+ private:
+  std::span<const Entry> seeds_;
+  std::size_t next_ = 0;
+  LazyHeap& heap_;
+};
+
 /// What a visitor decides for a popped entry.
 enum class SettleAction : std::uint8_t {
   kExpand,  ///< v is settled: relax its out-edges
@@ -59,7 +83,9 @@ inline std::pair<std::uint32_t, double> pop_min(IndexedHeap& heap) {
   const std::uint32_t v = heap.pop();
   return {v, heap.key(v)};
 }
-inline std::pair<std::uint32_t, double> pop_min(LazyHeap& heap) {
+// Heaps whose pop() returns a (key, vertex) entry: LazyHeap, SeededHeap.
+template <class Heap>
+std::pair<std::uint32_t, double> pop_min(Heap& heap) {
   const auto [key, v] = heap.pop();
   return {v, key};
 }

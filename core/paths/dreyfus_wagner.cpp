@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <functional>
 
 namespace seam::core {
 
@@ -41,6 +40,36 @@ struct DreyfusWagner::LowerBound {
   }
 };
 
+namespace {
+
+// grow()'s visitor: one table row as the distance array; a vertex beyond the bound is
+// never entered, a closed one (see `expandable`) is settled but not expanded.
+template <class Beyond, class Expandable>
+struct RowVisitor {
+  double* row;
+  std::uint32_t* back;
+  std::vector<std::uint32_t>& reached;
+  SeededHeap& frontier;
+  Beyond& beyond;
+  Expandable& expandable;
+
+  SettleAction settle(std::uint32_t v, double d) {
+    return d > row[v] || !expandable(v) ? SettleAction::kSkip : SettleAction::kExpand;  // stale or closed
+  }
+  double distance(std::uint32_t v) const { return row[v]; }
+  static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
+  void relax(std::uint32_t, std::uint32_t w, double nd, std::uint32_t slot) {
+    if (nd < row[w] && !beyond(w, nd)) {
+      if (row[w] == kInf) reached.push_back(w);
+      row[w] = nd;
+      back[w] = slot;
+      frontier.push(nd, w);
+    }
+  }
+};
+
+}  // namespace
+
 // A row grown along shortest paths: a multi-source Dijkstra seeded with the row's finite
 // entries. After merging many vertices are seeds, so the seeds are sorted once and streamed
 // in order alongside a heap that only holds improvements. With `lower` (a lower bound per
@@ -68,31 +97,11 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
     reached_.push_back(v);
   }
   std::sort(seeds_.begin(), seeds_.end());
-  std::size_t next_seed = 0;
   heap_.clear();
-  while (next_seed < seeds_.size() || !heap_.empty()) {
-    if (cancel.poll(polls_)) return cancelled_error("Dreyfus-Wagner");
-    Entry top;
-    if (heap_.empty() || (next_seed < seeds_.size() && seeds_[next_seed] < heap_.front())) {
-      top = seeds_[next_seed++];
-    } else {
-      std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-      top = heap_.back();
-      heap_.pop_back();
-    }
-    const auto [d, v] = top;
-    if (d > row[v] || !expandable(v)) continue;
-    for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
-      const std::uint32_t w = graph.head[slot].value();
-      const double nd = d + graph.weight[slot];
-      if (nd < row[w] && !beyond(w, nd)) {
-        if (row[w] == kInf) reached_.push_back(w);
-        row[w] = nd;
-        back[w] = slot;
-        heap_.emplace_back(nd, w);
-        std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
-      }
-    }
+  SeededHeap frontier(seeds_, heap_);
+  RowVisitor<decltype(beyond), decltype(expandable)> visitor{row, back, reached_, frontier, beyond, expandable};
+  if (Status status = run_dijkstra(graph, frontier, visitor, cancel, "Dreyfus-Wagner", polls_); !status.ok()) {
+    return status;
   }
   rows.finite[r].swap(reached_);
   return Ok{};

@@ -11,6 +11,7 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
+#include "core/paths/dijkstra_kernel.h"
 #include "core/paths/geodesic.h"
 
 namespace seam::core {
@@ -77,7 +78,7 @@ class DreyfusWagner {
   std::vector<std::uint32_t> seed_mask_;       // the relaxed rows' problem: its seeds as port 0
   std::vector<std::uint8_t> seed_blocks_;      // ... and only terminals other than its seeds block
   std::vector<Entry> seeds_;
-  std::vector<Entry> heap_;
+  LazyHeap heap_;
   std::vector<std::uint32_t> reached_;
   bool lower_from_table_ = false;  // the singleton rows serve as the relaxed rows
   std::uint32_t polls_ = 0;

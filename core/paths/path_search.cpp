@@ -1,7 +1,6 @@
 #include "core/paths/path_search.h"
 
 #include <algorithm>
-#include <functional>
 
 namespace seam::core {
 
