@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <numeric>
+#include <type_traits>
+#include <utility>
 #include <random>
 #include <vector>
 
@@ -127,4 +130,100 @@ TEST_CASE("PathSearch::run_to_nearest stops at the nearest target, within max_di
   search.add_source(source);
   REQUIRE(search.run().ok());
   CHECK(search.settled().size() == mesh.num_vertices());
+}
+
+namespace {
+
+void push_entry(IndexedHeap& heap, std::uint32_t v, double) { heap.push_or_decrease(v); }
+template <class Heap>
+void push_entry(Heap& heap, std::uint32_t v, double key) {
+  heap.push(key, v);
+}
+
+// A plain run_dijkstra visitor that records the settling order; stale entries are skipped.
+template <class Heap>
+struct OrderVisitor {
+  std::vector<double>& dist;
+  Heap& heap;
+  std::vector<std::uint8_t> settled;
+  std::vector<std::uint32_t> order;
+
+  SettleAction settle(std::uint32_t v, double key) {
+    if (settled[v] || key > dist[v]) return SettleAction::kSkip;
+    settled[v] = 1;
+    order.push_back(v);
+    return SettleAction::kExpand;
+  }
+  double distance(std::uint32_t v) const { return dist[v]; }
+  static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
+  void relax(std::uint32_t, std::uint32_t w, double nd, std::uint32_t) {
+    if (nd < dist[w]) {
+      dist[w] = nd;
+      push_entry(heap, w, nd);
+    }
+  }
+};
+
+}  // namespace
+
+TEST_CASE("run_dijkstra settles by (distance, vertex id) with every heap, from sources with offsets") {
+  // Small integer weights make many exact ties. With positive weights every vertex at
+  // distance d is in the heap before the first of them is popped, so the kernel must settle
+  // in (distance, id) order; distances are checked against Bellman-Ford with start offsets.
+  const HalfedgeMesh mesh = torus_mesh();
+  std::mt19937 rng(5);
+  std::vector<double> weights(mesh.num_edges());
+  for (double& w : weights) w = static_cast<double>(1 + rng() % 3);
+  const EdgeGraph g = build_edge_graph(mesh, weights);
+  const std::size_t n = g.num_vertices();
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<double, std::uint32_t>> seeds;
+  for (std::uint32_t v : {3u, 40u, 41u, 77u, 100u}) seeds.emplace_back(static_cast<double>(rng() % 3), v);
+  std::sort(seeds.begin(), seeds.end());
+
+  std::vector<double> oracle(n, inf);
+  for (const auto& [d, v] : seeds) oracle[v] = d;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t v = 0; v < n; ++v) {
+      for (std::uint32_t slot = g.offsets[v]; slot < g.offsets[v + 1]; ++slot) {
+        if (oracle[v] + g.weight[slot] < oracle[g.head[slot].index()]) {
+          oracle[g.head[slot].index()] = oracle[v] + g.weight[slot];
+          changed = true;
+        }
+      }
+    }
+  }
+  std::vector<std::uint32_t> expected(n);
+  std::iota(expected.begin(), expected.end(), 0u);
+  std::sort(expected.begin(), expected.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return std::pair(oracle[a], a) < std::pair(oracle[b], b); });
+
+  auto check = [&](auto& heap, std::vector<double>& dist, const char* name) {
+    CAPTURE(name);
+    using Heap = std::remove_reference_t<decltype(heap)>;
+    OrderVisitor<Heap> visitor{dist, heap, std::vector<std::uint8_t>(n, 0), {}};
+    REQUIRE(run_dijkstra(g, heap, visitor, CancelToken::none(), "test").ok());
+    CHECK(dist == oracle);
+    CHECK(visitor.order == expected);
+  };
+  {
+    std::vector<double> dist(n, inf);
+    IndexedHeap heap(dist, n);
+    for (const auto& [d, v] : seeds) dist[v] = d, heap.push_or_decrease(v);
+    check(heap, dist, "IndexedHeap");
+  }
+  {
+    std::vector<double> dist(n, inf);
+    LazyHeap heap;
+    for (const auto& [d, v] : seeds) dist[v] = d, heap.push(d, v);
+    check(heap, dist, "LazyHeap");
+  }
+  {
+    std::vector<double> dist(n, inf);
+    LazyHeap improvements;
+    SeededHeap heap(seeds, improvements);
+    for (const auto& [d, v] : seeds) dist[v] = d;
+    check(heap, dist, "SeededHeap");
+  }
 }
