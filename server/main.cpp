@@ -1,9 +1,13 @@
 // seamd: argument dispatch only. Serving lives in seam_server_lib, batch mode in seam_api.
 #include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <sys/signalfd.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <thread>
@@ -14,13 +18,15 @@
 
 namespace {
 
-// SIGTERM/SIGINT: a handler writes one byte into a pipe and a thread that reads the pipe
-// calls Server::shutdown, so the shutdown path is ordinary code, not async-signal-safe code.
-// (Blocking the signals and taking them with sigwait is not enough: threads that libraries
-// start before main, such as OpenBLAS's pool behind CHOLMOD, do not have them blocked, so the
-// kernel may hand SIGTERM to one of them, where the default action kills the process, or, for
-// PID 1 in a container, drops the signal.) The pipe is the one piece of process-wide state
-// here, as signal handlers are process-wide.
+// SIGTERM/SIGINT are blocked before seamd starts any thread, so every thread it starts (HTTP,
+// workers, and the pools libraries start from them: libgomp behind METIS, OpenBLAS) inherits
+// the block, and a signal thread takes them from a signalfd: no handler runs inside library
+// code. That matters because METIS (CHOLMOD's nested-dissection ordering) installs its own
+// SIGTERM handler, which longjmps, for the length of each call; a SIGTERM handled during one
+// crashed the process. Threads a library starts before main (OpenBLAS's pool) do not have the
+// signals blocked: seamd re-executes itself once with OPENBLAS_NUM_THREADS=1 when it is unset,
+// so there are none, and for any left a handler writes one byte into a pipe that the same
+// thread reads. Either way Server::shutdown runs in ordinary code, not in a signal handler.
 int stop_pipe[2] = {-1, -1};
 
 extern "C" void on_stop_signal(int) {
@@ -28,6 +34,37 @@ extern "C" void on_stop_signal(int) {
   const char byte = 1;
   [[maybe_unused]] const auto written = write(stop_pipe[1], &byte, 1);
   errno = saved;
+}
+
+// Blocks until SIGTERM/SIGINT arrives (through `stop_fd` or the handler's pipe): true; or
+// until a zero byte on the pipe says run() ended on its own: false.
+bool wait_for_stop(int stop_fd) {
+  pollfd fds[2] = {{stop_fd, POLLIN, 0}, {stop_pipe[0], POLLIN, 0}};
+  while (true) {
+    if (poll(fds, 2, -1) < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    if ((fds[0].revents & POLLIN) != 0) return true;
+    if ((fds[1].revents & POLLIN) != 0) {
+      char byte = 0;
+      if (read(stop_pipe[0], &byte, 1) < 0 && errno == EINTR) continue;
+      return byte == 1;
+    }
+  }
+}
+
+// OpenBLAS starts its thread pool when it is loaded, before main, unless
+// OPENBLAS_NUM_THREADS says 1 (seamd uses it single-threaded anyway). Re-executes seamd once
+// with it set, so that no thread exists that does not block the stop signals.
+void single_threaded_blas(char** argv) {
+  if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr) return;
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n <= 0) return;
+  self[n] = '\0';  // the real path, so that ps and top still say "seamd"
+  setenv("OPENBLAS_NUM_THREADS", "1", 1);
+  execv(self, argv);  // returns only on failure: then serve as we are
 }
 
 int serve(int argc, char** argv) {
@@ -41,7 +78,13 @@ int serve(int argc, char** argv) {
     return 0;
   }
   std::signal(SIGPIPE, SIG_IGN);
-  if (pipe2(stop_pipe, O_CLOEXEC) != 0) {
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  const int stop_fd = signalfd(-1, &stop_signals, SFD_CLOEXEC);
+  if (pipe2(stop_pipe, O_CLOEXEC) != 0 || stop_fd < 0) {
     std::cerr << "seamd: cannot create the signal pipe: " << std::strerror(errno) << "\n";
     return 1;
   }
@@ -52,11 +95,8 @@ int serve(int argc, char** argv) {
     std::cerr << seam::api::error_text(port.error()) << "\n";
     return 1;
   }
-  std::thread signal_thread([&server] {
-    char byte = 0;
-    while (read(stop_pipe[0], &byte, 1) < 0 && errno == EINTR) {
-    }
-    if (byte == 1) server.shutdown();  // 0: run() ended on its own
+  std::thread signal_thread([&server, stop_fd] {
+    if (wait_for_stop(stop_fd)) server.shutdown();  // false: run() ended on its own
   });
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
@@ -86,5 +126,6 @@ int main(int argc, char** argv) {
     std::ios::sync_with_stdio(false);  // whole assets through cin/cout: no per-character stdio sync
     return seam::api::run_cli(argc - 1, argv + 1, std::cin, std::cout, std::cerr, context);
   }
+  single_threaded_blas(argv);
   return serve(argc, argv);
 }
