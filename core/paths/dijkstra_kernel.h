@@ -98,7 +98,10 @@ std::pair<std::uint32_t, double> pop_min(Heap& heap) {
 ///     may differ, e.g. a component's local numbering);
 ///   void relax(std::uint32_t v, std::uint32_t w, double nd, std::uint32_t slot): the edge
 ///     graph.head[slot] = w (a vertex of `graph`) out of v offers w the distance nd; the
-///     visitor compares, records and pushes.
+///     visitor compares, records and pushes;
+///   optionally bool enters(std::uint32_t w): false skips the edge before its weight is read
+///     (PathSearch: forbidden or already settled w), which saves the weight load where most
+///     neighbours are settled.
 /// Out-edges are relaxed in slot order. `cancel` is polled once per popped entry (stale ones
 /// included) through `polls`. Errors: kCancelled (message names `what`).
 template <class Heap, class Visitor>
@@ -113,7 +116,11 @@ Status run_dijkstra(const EdgeGraph& graph, Heap& heap, Visitor& visitor, const 
     const double d = visitor.distance(v);
     const std::uint32_t gv = visitor.graph_vertex(v);
     for (std::uint32_t slot = graph.offsets[gv]; slot < graph.offsets[gv + 1]; ++slot) {
-      visitor.relax(v, graph.head[slot].value(), d + graph.weight[slot], slot);
+      const std::uint32_t w = graph.head[slot].value();
+      if constexpr (requires { visitor.enters(w); }) {
+        if (!visitor.enters(w)) continue;
+      }
+      visitor.relax(v, w, d + graph.weight[slot], slot);
     }
   }
   return Ok{};

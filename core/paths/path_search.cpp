@@ -75,11 +75,13 @@ struct PathSearch::Visitor {
   SettleAction settle(std::uint32_t v, double popped_key) { return on_settle(v, popped_key); }
   double distance(std::uint32_t v) const { return search.dist_[v]; }
   static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
+  bool enters(std::uint32_t w) {
+    if (search.mark_[w] == kForbidden) return false;
+    search.touch(w);
+    return !search.settled_[w];
+  }
   void relax(std::uint32_t /*v*/, std::uint32_t w, double nd, std::uint32_t slot) {
     PathSearch& s = search;
-    if (s.mark_[w] == kForbidden) return;
-    s.touch(w);
-    if (s.settled_[w]) return;
     if (nd < s.dist_[w]) {
       s.dist_[w] = nd;
       s.parent_[w] = s.graph_->halfedge[slot];
