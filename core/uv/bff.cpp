@@ -70,32 +70,47 @@ Result<std::vector<Vec2>> extend_positive(const DiscPatch& patch, const std::vec
   return uv;
 }
 
-}  // namespace
-
-Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel) {
-  const std::size_t n = patch.num_vertices();
-  const std::size_t nb = patch.boundary.size();
-  constexpr double kPi = std::numbers::pi;
-
-  // Interior vertices get indices 0..nI-1 in the reduced system; boundary vertices keep their
-  // position in the counter-clockwise loop.
-  std::vector<Eigen::Index> interior_index(n, -1);
-  std::vector<Eigen::Index> boundary_index(n, -1);
-  for (std::size_t k = 0; k < nb; ++k) boundary_index[patch.boundary[k]] = static_cast<Eigen::Index>(k);
+// Interior vertices get indices 0..nI-1 in the reduced system; boundary vertices keep their
+// position in the counter-clockwise loop.
+struct BffIndex {
+  std::vector<Eigen::Index> interior;  // -1 on the boundary
+  std::vector<Eigen::Index> boundary;  // -1 inside
   Eigen::Index num_interior = 0;
-  for (std::size_t v = 0; v < n; ++v) {
-    if (boundary_index[v] < 0) interior_index[v] = num_interior++;
-  }
+};
 
-  // Angle sums give the curvatures: K = 2 pi - sum (interior), k = pi - sum (boundary).
-  std::vector<double> angle_sum(n, 0.0);
+BffIndex index_vertices(const DiscPatch& patch) {
+  BffIndex index;
+  const std::size_t n = patch.num_vertices();
+  index.interior.assign(n, -1);
+  index.boundary.assign(n, -1);
+  for (std::size_t k = 0; k < patch.boundary.size(); ++k) {
+    index.boundary[patch.boundary[k]] = static_cast<Eigen::Index>(k);
+  }
+  for (std::size_t v = 0; v < n; ++v) {
+    if (index.boundary[v] < 0) index.interior[v] = index.num_interior++;
+  }
+  return index;
+}
+
+// Angle sums give the curvatures: K = 2 pi - sum (interior), k = pi - sum (boundary).
+Result<std::vector<double>> angle_sums(const DiscPatch& patch, const CancelToken& cancel) {
+  std::vector<double> angle_sum(patch.num_vertices(), 0.0);
   std::uint32_t poll = 0;
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     if (cancel.poll(poll)) return cancelled_error("BFF curvature");
     const Vec3 a = corner_angles(patch, t);
     for (int k = 0; k < 3; ++k) angle_sum[patch.triangles[t][k]] += a[k];
   }
+  return angle_sum;
+}
 
+// The cotan Laplacian's interior rows, split into A_II and A_IB.
+struct SplitLaplacian {
+  Eigen::SparseMatrix<double> a_ii;
+  Eigen::SparseMatrix<double> a_ib;
+};
+
+SplitLaplacian split_laplacian(const DiscPatch& patch, const BffIndex& index) {
   const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(patch);
   std::vector<Eigen::Triplet<double>> ii;
   std::vector<Eigen::Triplet<double>> ib;
@@ -103,52 +118,55 @@ Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken&
   for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
       const Eigen::Index r = it.row();
-      if (interior_index[r] < 0) continue;
-      if (interior_index[c] >= 0) {
-        ii.emplace_back(interior_index[r], interior_index[c], it.value());
+      if (index.interior[r] < 0) continue;
+      if (index.interior[c] >= 0) {
+        ii.emplace_back(index.interior[r], index.interior[c], it.value());
       } else {
-        ib.emplace_back(interior_index[r], boundary_index[c], it.value());
+        ib.emplace_back(index.interior[r], index.boundary[c], it.value());
       }
     }
   }
-  Eigen::SparseMatrix<double> a_ii(num_interior, num_interior);
-  a_ii.setFromTriplets(ii.begin(), ii.end());
-  Eigen::SparseMatrix<double> a_ib(num_interior, static_cast<Eigen::Index>(nb));
-  a_ib.setFromTriplets(ib.begin(), ib.end());
-  ii = {};
-  ib = {};
-  if (cancel.is_cancelled()) return cancelled_error("BFF assembly");
+  SplitLaplacian out{Eigen::SparseMatrix<double>(index.num_interior, index.num_interior),
+                     Eigen::SparseMatrix<double>(index.num_interior, static_cast<Eigen::Index>(patch.boundary.size()))};
+  out.a_ii.setFromTriplets(ii.begin(), ii.end());
+  out.a_ib.setFromTriplets(ib.begin(), ib.end());
+  return out;
+}
 
-  // A_II is the Dirichlet Laplacian of a connected disc: positive definite, so LL^T applies.
-  // Nested dissection: one factorization serves four solves, and its 20% smaller factor is what
-  // the default job's peak memory depends on (sparse_cholesky.h).
-  SparseCholesky solver;
-  solver.prefer_nested_dissection();
-  Eigen::VectorXd u_interior;
-  if (num_interior > 0) {
-    solver.compute(a_ii);
-    if (solver.info() != Eigen::Success) {
-      return make_error(ErrorCode::kSolverFailed,
-                        "BFF: the Cholesky factorization of the interior cotan Laplacian failed");
-    }
-    if (cancel.is_cancelled()) return cancelled_error("BFF factorization");
-    Eigen::VectorXd minus_k(num_interior);
-    for (std::size_t v = 0; v < n; ++v) {
-      if (interior_index[v] >= 0) minus_k[interior_index[v]] = -(2 * kPi - angle_sum[v]);
-    }
-    u_interior = solver.solve(minus_k);
-    if (!u_interior.allFinite()) {
-      return make_error(ErrorCode::kSolverFailed, "BFF: the scale factor solve produced non-finite values");
-    }
-  }
-
-  // Target exterior angles k~_B = k_B + (A_BI u_I); A_BI = A_IB^T.
+// The target exterior angles k~_B = k_B + (A_BI u_I) (A_BI = A_IB^T), u_I solving
+// A_II u_I = -K_I with the factorization `solver` keeps for the extension.
+Result<Eigen::VectorXd> target_exterior_angles(const DiscPatch& patch, const BffIndex& index, const SplitLaplacian& a,
+                                               const std::vector<double>& angle_sum, SparseCholesky& solver,
+                                               const CancelToken& cancel) {
+  constexpr double kPi = std::numbers::pi;
+  const std::size_t nb = patch.boundary.size();
   Eigen::VectorXd target_k(static_cast<Eigen::Index>(nb));
   for (std::size_t k = 0; k < nb; ++k) target_k[static_cast<Eigen::Index>(k)] = kPi - angle_sum[patch.boundary[k]];
-  if (num_interior > 0) target_k += a_ib.transpose() * u_interior;
+  if (index.num_interior == 0) return target_k;
+  solver.compute(a.a_ii);
+  if (solver.info() != Eigen::Success) {
+    return make_error(ErrorCode::kSolverFailed, "BFF: the Cholesky factorization of the interior cotan Laplacian failed");
+  }
+  if (cancel.is_cancelled()) return cancelled_error("BFF factorization");
+  Eigen::VectorXd minus_k(index.num_interior);
+  for (std::size_t v = 0; v < patch.num_vertices(); ++v) {
+    if (index.interior[v] >= 0) minus_k[index.interior[v]] = -(2 * kPi - angle_sum[v]);
+  }
+  const Eigen::VectorXd u_interior = solver.solve(minus_k);
+  if (!u_interior.allFinite()) {
+    return make_error(ErrorCode::kSolverFailed, "BFF: the scale factor solve produced non-finite values");
+  }
+  target_k += a.a_ib.transpose() * u_interior;
+  return target_k;
+}
 
-  // Integrate the tangent: edge k runs from boundary[k] to boundary[k+1] and turns by
-  // k~ at boundary[k] relative to edge k-1.
+// The boundary curve: the tangent integrated with turns target_k (edge k runs from
+// boundary[k] to boundary[k+1] and turns by k~ at boundary[k] relative to edge k-1), closed
+// with the least change of lengths, sum (l*-l)^2 / l, subject to sum l* T = 0 (§4.1.2):
+// l* = l - diag(l) T^T (T diag(l) T^T)^-1 T l. Returns the boundary vertices' positions in
+// loop order.
+Result<std::vector<Vec2>> boundary_curve(const DiscPatch& patch, const Eigen::VectorXd& target_k) {
+  const std::size_t nb = patch.boundary.size();
   Eigen::VectorXd length(static_cast<Eigen::Index>(nb));
   Eigen::Matrix2Xd tangent(2, static_cast<Eigen::Index>(nb));
   double phi = 0;
@@ -159,49 +177,72 @@ Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken&
     tangent(0, kk) = std::cos(phi);
     tangent(1, kk) = std::sin(phi);
   }
-  // Close the polygon with the least change of lengths, sum (l*-l)^2 / l, subject to
-  // sum l* T = 0 (§4.1.2): l* = l - diag(l) T^T (T diag(l) T^T)^-1 T l.
   const Eigen::Matrix2d gram = tangent * length.asDiagonal() * tangent.transpose();
   const Eigen::Vector2d gap = tangent * length;
   const Eigen::Vector2d lambda = gram.ldlt().solve(gap);
-  const Eigen::VectorXd closed_length =
-      length - length.asDiagonal() * (tangent.transpose() * lambda);
+  const Eigen::VectorXd closed_length = length - length.asDiagonal() * (tangent.transpose() * lambda);
   if (!closed_length.allFinite()) {
     return make_error(ErrorCode::kSolverFailed, "BFF: closing the boundary curve failed");
   }
-
-  std::vector<Vec2> uv(n, Vec2::Zero());
-  Eigen::VectorXd bx(static_cast<Eigen::Index>(nb));
-  Eigen::VectorXd by(static_cast<Eigen::Index>(nb));
+  std::vector<Vec2> curve(nb);
   Vec2 p(0, 0);
   for (std::size_t k = 0; k < nb; ++k) {
-    const auto kk = static_cast<Eigen::Index>(k);
-    uv[patch.boundary[k]] = p;
-    bx[kk] = p.x();
-    by[kk] = p.y();
-    p += closed_length[kk] * tangent.col(kk);
+    curve[k] = p;
+    p += closed_length[static_cast<Eigen::Index>(k)] * tangent.col(static_cast<Eigen::Index>(k));
   }
+  return curve;
+}
 
-  if (num_interior > 0) {
-    if (cancel.is_cancelled()) return cancelled_error("BFF extension");
-    const Eigen::VectorXd x = solver.solve(-(a_ib * bx));
-    const Eigen::VectorXd y = solver.solve(-(a_ib * by));
-    if (!x.allFinite() || !y.allFinite()) {
-      return make_error(ErrorCode::kSolverFailed, "BFF: the harmonic extension produced non-finite values");
-    }
-    for (std::size_t v = 0; v < n; ++v) {
-      if (interior_index[v] >= 0) uv[v] = Vec2(x[interior_index[v]], y[interior_index[v]]);
-    }
-    if (count_inverted(patch, uv) > 0) {
-      // Cotan weights are negative across non-Delaunay edges, and then the discrete harmonic
-      // extension has no maximum principle and can fold. Retry with the weights clamped to
-      // be positive (a convex-combination map in the sense of Floater): one more
-      // factorization, paid only by meshes that need it; kept only if it folds less.
-      SEAM_TRY(std::vector<Vec2> positive, extend_positive(patch, interior_index, uv, cancel));
-      if (count_inverted(patch, positive) < count_inverted(patch, uv)) uv = std::move(positive);
-    }
+// The interior by the harmonic extension of the boundary curve (with `solver`'s A_II); where
+// it folds, the positive-weight extension if that folds less.
+Result<std::vector<Vec2>> extend_inside(const DiscPatch& patch, const BffIndex& index, const SplitLaplacian& a,
+                                        const std::vector<Vec2>& curve, const SparseCholesky& solver,
+                                        const CancelToken& cancel) {
+  const std::size_t nb = patch.boundary.size();
+  std::vector<Vec2> uv(patch.num_vertices(), Vec2::Zero());
+  Eigen::VectorXd bx(static_cast<Eigen::Index>(nb));
+  Eigen::VectorXd by(static_cast<Eigen::Index>(nb));
+  for (std::size_t k = 0; k < nb; ++k) {
+    uv[patch.boundary[k]] = curve[k];
+    bx[static_cast<Eigen::Index>(k)] = curve[k].x();
+    by[static_cast<Eigen::Index>(k)] = curve[k].y();
+  }
+  if (index.num_interior == 0) return uv;
+  if (cancel.is_cancelled()) return cancelled_error("BFF extension");
+  const Eigen::VectorXd x = solver.solve(-(a.a_ib * bx));
+  const Eigen::VectorXd y = solver.solve(-(a.a_ib * by));
+  if (!x.allFinite() || !y.allFinite()) {
+    return make_error(ErrorCode::kSolverFailed, "BFF: the harmonic extension produced non-finite values");
+  }
+  for (std::size_t v = 0; v < patch.num_vertices(); ++v) {
+    if (index.interior[v] >= 0) uv[v] = Vec2(x[index.interior[v]], y[index.interior[v]]);
+  }
+  if (count_inverted(patch, uv) > 0) {
+    // Cotan weights are negative across non-Delaunay edges, and then the discrete harmonic
+    // extension has no maximum principle and can fold. Retry with the weights clamped to be
+    // positive (a convex-combination map in the sense of Floater): one more factorization,
+    // paid only by meshes that need it; kept only if it folds less.
+    SEAM_TRY(std::vector<Vec2> positive, extend_positive(patch, index.interior, uv, cancel));
+    if (count_inverted(patch, positive) < count_inverted(patch, uv)) uv = std::move(positive);
   }
   return uv;
+}
+
+}  // namespace
+
+Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel) {
+  const BffIndex index = index_vertices(patch);
+  SEAM_TRY(const std::vector<double> angle_sum, angle_sums(patch, cancel));
+  const SplitLaplacian a = split_laplacian(patch, index);
+  if (cancel.is_cancelled()) return cancelled_error("BFF assembly");
+  // A_II is the Dirichlet Laplacian of a connected disc: positive definite, so LL^T applies.
+  // Nested dissection: one factorization serves four solves, and its 20% smaller factor is what
+  // the default job's peak memory depends on (sparse_cholesky.h).
+  SparseCholesky solver;
+  solver.prefer_nested_dissection();
+  SEAM_TRY(const Eigen::VectorXd target_k, target_exterior_angles(patch, index, a, angle_sum, solver, cancel));
+  SEAM_TRY(const std::vector<Vec2> curve, boundary_curve(patch, target_k));
+  return extend_inside(patch, index, a, curve, solver, cancel);
 }
 
 }  // namespace seam::core
