@@ -32,6 +32,15 @@ std::vector<VertexId> random_terminals(const HalfedgeMesh& mesh, std::size_t k, 
   return terminals;
 }
 
+// The paper's skeleton seam (no refinement, no improvement) through `terminals`.
+SkeletonResult paper_skeleton(const HalfedgeMesh& mesh, const EdgeGraph& graph, const std::vector<VertexId>& terminals) {
+  auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
+  REQUIRE(paths.ok());
+  auto skeleton = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false});
+  REQUIRE(skeleton.ok());
+  return std::move(skeleton).value();
+}
+
 }  // namespace
 
 TEST_CASE("refine_tree on small terminal sets: a full component, never longer, never below the exact optimum") {
@@ -42,12 +51,9 @@ TEST_CASE("refine_tree on small terminal sets: a full component, never longer, n
   for (int trial = 0; trial < 8; ++trial) {
     const auto terminals = random_terminals(mesh, 3 + static_cast<std::size_t>(trial % 4), rng);
     CAPTURE(trial);
-    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
-    REQUIRE(paths.ok());
-    auto skeleton = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false});
-    REQUIRE(skeleton.ok());
-    const double before = full_component_length(mesh, skeleton->tree.edges, terminals);
-    auto refined = refine_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
+    const SkeletonResult skeleton = paper_skeleton(mesh, graph, terminals);
+    const double before = full_component_length(mesh, skeleton.tree.edges, terminals);
+    auto refined = refine_tree(mesh, graph, {}, terminals, skeleton.tree.edges);
     REQUIRE(refined.ok());
     const RefineStats& stats = refined->stats;
     const double after = full_component_length(mesh, refined->edges, terminals);
@@ -60,7 +66,7 @@ TEST_CASE("refine_tree on small terminal sets: a full component, never longer, n
     CHECK(optimal->length <= after + 1e-9);
     if (after < before - 1e-12) ++shortened;
     // Deterministic: the same input gives the same tree.
-    auto again = refine_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
+    auto again = refine_tree(mesh, graph, {}, terminals, skeleton.tree.edges);
     REQUIRE(again.ok());
     CHECK(again->edges == refined->edges);
   }
@@ -113,15 +119,12 @@ TEST_CASE("refine_tree equals the exact optimum when one piece holds the whole t
   for (int trial = 0; trial < 12; ++trial) {
     const auto terminals = random_terminals(mesh, 3 + static_cast<std::size_t>(trial % 2), rng);
     CAPTURE(trial);
-    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
-    REQUIRE(paths.ok());
-    auto skeleton = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false});
-    REQUIRE(skeleton.ok());
+    const SkeletonResult skeleton = paper_skeleton(mesh, graph, terminals);
     // Only trees with the full topology (k - 2 Steiner points of degree 3) are one piece.
-    if (skeleton->tree.steiner_points.size() + 2 != terminals.size()) continue;
+    if (skeleton.tree.steiner_points.size() + 2 != terminals.size()) continue;
     ++whole_pieces;
     const RefineOptions options{.max_ports = 5, .max_region = mesh.num_vertices(), .max_work = SIZE_MAX, .reach = 100.0};
-    auto refined = refine_tree(mesh, graph, {}, terminals, skeleton->tree.edges, options);
+    auto refined = refine_tree(mesh, graph, {}, terminals, skeleton.tree.edges, options);
     REQUIRE(refined.ok());
     auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
     REQUIRE(optimal.ok());
