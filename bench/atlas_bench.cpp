@@ -1,8 +1,12 @@
 // Atlas benchmark (issue 12): overlap of the default map before/after making it injective,
 // its distortion cost, packing coverage of several meshes' charts, and each step's time.
-//   build/atlas/bench/atlas_bench [overlap|pack|all]
+//   build/atlas/bench/atlas_bench [overlap|readme|worst|pack|quick|all]
+//   atlas_bench slim|slim-foldfree [mesh ...]: the README's distortion rows with the injective
+//       (or fold-free) SLIM's steps, factorizations, contact-limited steps and CPU ms
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -18,7 +22,9 @@
 #include "core/mesh/topology.h"
 #include "core/seam/cut_graph.h"
 #include "core/seam/seam.h"
+#include "core/uv/bff.h"
 #include "core/uv/parameterize.h"
+#include "core/uv/slim.h"
 #include "core/uv/uv_patch.h"
 #include "fixtures.h"
 
@@ -351,6 +357,69 @@ void readme_section() {
   }
 }
 
+double cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
+}
+
+// One row of the injective SLIM's cost: SLIM itself on every chart (steps, factorizations,
+// collision-limited steps, energy), then the default parameterize() (area_g, angle, flips,
+// overlap), each in process CPU ms. With `fold_free`, the same without injectivity.
+void slim_cost_row(const std::string& name, const HalfedgeMesh& mesh, bool cut_graph_only, SeamMethod method,
+                   bool fold_free) {
+  auto disc = disc_of(mesh, cut_graph_only, method);
+  if (!disc.ok()) return;
+  auto patches = extract_disc_patches(disc->mesh, compute_topology(disc->mesh));
+  if (!patches.ok()) return;
+  int steps = 0;
+  int factorizations = 0;
+  int collided = 0;
+  double energy = 0;
+  double slim_ms = 0;
+  for (const DiscPatch& patch : *patches) {
+    std::vector<Vec2> start = flatten_bff(patch, CancelToken::none()).value();
+    repair_flips(patch, start);
+    const double t0 = cpu_ms();
+    const SlimResult s = flatten_slim(patch, std::move(start), {.injective = !fold_free}, CancelToken::none()).value();
+    slim_ms += cpu_ms() - t0;
+    steps += s.iterations;
+    factorizations += s.factorizations;
+    collided += s.collision_limited_steps;
+    energy = std::max(energy, s.energy_end);
+  }
+  UvOptions options;
+  options.injective = !fold_free;
+  const double t0 = cpu_ms();
+  auto r = parameterize(disc->mesh, options);
+  const double ms = cpu_ms() - t0;
+  if (!r.ok()) return;
+  const Distortion& d = r->distortion;
+  std::printf("%-10s %-9s %-9s %5d %5d %5d %9.4f %8.1f %8.1f %8.4f %7.3f %5zu %9.2g\n", name.c_str(),
+              cut_graph_only ? "cutgraph" : seam_method_name(method), fold_free ? "foldfree" : "injective", steps,
+              factorizations, collided, energy, slim_ms, ms, d.area_geometric, d.angle, d.flipped,
+              r->overlap_fraction);
+  std::fflush(stdout);
+}
+
+// `slim [mesh ...]`: the README's distortion rows (and man's skeleton row) with SLIM's cost.
+void slim_cost_section(const std::vector<std::string>& only, bool fold_free) {
+  std::printf("%-10s %-9s %-9s %5s %5s %5s %9s %8s %8s %8s %7s %5s %9s\n", "mesh", "cut", "map", "steps", "facts",
+              "coll", "energy", "slim_cpu", "job_cpu", "area_g", "angle", "flips", "overlap");
+  for (const char* name : {"hand", "camel", "dino", "elephant", "armadillo", "homer", "man"}) {
+    if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;
+    const HalfedgeMesh mesh = build(sb::load_cgal(name));
+    if (std::string(name) == "man") {
+      slim_cost_row(name, mesh, false, SeamMethod::kSkeleton, fold_free);
+      continue;
+    }
+    slim_cost_row(name, mesh, true, SeamMethod::kSkeleton, fold_free);
+    for (SeamMethod m : {SeamMethod::kMst, SeamMethod::kGreedy, SeamMethod::kSkeleton}) {
+      slim_cost_row(name, mesh, false, m, fold_free);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -358,6 +427,9 @@ int main(int argc, char** argv) {
   const bool quick = what == "quick";
   if (what == "overlap" || what == "all" || quick) overlap_section(quick);
   if (what == "readme") readme_section();
+  if (what == "slim" || what == "slim-foldfree") {
+    slim_cost_section(std::vector<std::string>(argv + 2, argv + argc), what == "slim-foldfree");
+  }
   if (what == "worst") {  // the rows where injectivity costs most (docs/uv.md)
     overlap_row("man", build(sb::load_cgal("man")), false, SeamMethod::kSkeleton);
     overlap_row("elephant", build(sb::load_cgal("elephant")), false, SeamMethod::kMst);

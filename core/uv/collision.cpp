@@ -167,6 +167,7 @@ CollisionStep max_collision_free_step(const DiscPatch& patch, const std::vector<
     if (t <= t_max) {
       best = std::min(best, t);
       out.colliding.insert(out.colliding.end(), {v, a, b});
+      out.contacts.push_back({v, a, b, t});
     }
   });
   if (best <= t_max) {

@@ -16,6 +16,15 @@ struct CollisionStep {
   /// Local ids of the vertices of every pair that collides before t_max (the boundary vertex
   /// and the edge's endpoints), sorted, unique.
   std::vector<std::uint32_t> colliding;
+  /// Every pair that collides before t_max: boundary vertex, the edge's endpoints (local ids,
+  /// the edge from a to b along the loop) and the contact time; in the grid's pair order.
+  struct Contact {
+    std::uint32_t vertex = 0;
+    std::uint32_t a = 0;
+    std::uint32_t b = 0;
+    double time = 0;
+  };
+  std::vector<Contact> contacts;
 };
 
 /// The largest t in (0, t_max] such that, when every vertex moves by t' * direction[v] for

@@ -1,11 +1,13 @@
 #include "core/uv/slim.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include "core/uv/collision.h"
 #include "core/uv/distortion.h"
@@ -17,8 +19,12 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxProxyWeight = 1e8;
-constexpr int kHoldRounds = 8;     // rounds of holding colliding vertices per step
-constexpr int kResolveRounds = 1;  // of those, rounds that re-solve the proxy with them pinned
+constexpr int kHoldRounds = 8;  // rounds of contacts and held vertices per step
+constexpr int kMinContactSolves = 32;  // per step, whatever a factorization costs
+// A contact-limited step ends the descent when the last kWindow steps together gained less
+// than kWindow x kWindowTolerance x the tolerance.
+constexpr int kWindow = 3;
+constexpr double kWindowTolerance = 0.5;
 
 using Clock = std::chrono::steady_clock;
 
@@ -256,18 +262,55 @@ class ProxySystem {
     return dir;
   }
 
-  // A stiff spring holding vertex v at `where` (in the matrix and the right-hand side).
-  void hold(std::uint32_t v, const Vec2& where, double spring) {
-    if (v == 0) return;
-    for (int c = 0; c < block_; ++c) system_.valuePtr()[system_.outerIndexPtr()[unknown(v, c)]] += spring;
-    at(rhs_, v, 0) += spring * where.x();
-    at(rhs_, v, 1) += spring * where.y();
+  // A linearised contact between a boundary vertex and a boundary edge: the direction must
+  // satisfy n . (d[v0] + c1 d[v1] + c2 d[v2]) >= h (the vertex's motion relative to its closest
+  // point on the edge, along the normal n from the edge to the vertex).
+  struct Contact {
+    std::array<std::uint32_t, 3> v;
+    std::array<double, 3> coef;
+    Vec2 n;
+    double h = 0;
+  };
+
+  // How many right-hand sides one solve with the factor costs as much as one numeric
+  // factorization (CHOLMOD's flop counts from the analysis: about 4 flops per entry of L and
+  // column; deterministic).
+  double solves_per_factorization() {
+    const double lnz = solver_.cholmod().lnz;
+    const double fl = solver_.cholmod().fl;
+    return lnz > 0 ? fl / (4 * lnz) : 1;
   }
 
-  double max_diagonal() const {
-    double d = 0;
-    for (Eigen::Index c = 0; c < system_.cols(); ++c) d = std::max(d, std::abs(system_.valuePtr()[system_.outerIndexPtr()[c]]));
-    return d;
+  // The minimiser of the factorized proxy (as `direction`: `free` = A^-1 r) subject to the
+  // contacts as inequalities n . (relative motion) >= h, by their Schur complement
+  // S = G A^-1 G^T with the step's own factor: one solve per contact, then one for the
+  // correction, no refactorization. Empty if not finite.
+  std::vector<Vec2> constrained(const std::vector<Vec2>& free, const std::vector<Contact>& contacts) const {
+    const auto m = static_cast<Eigen::Index>(contacts.size());
+    Eigen::VectorXd violation(m);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Contact& c = contacts[static_cast<std::size_t>(i)];
+      Vec2 rel = Vec2::Zero();
+      for (int k = 0; k < 3; ++k) rel += c.coef[k] * free[c.v[k]];
+      violation(i) = c.n.dot(rel) - c.h;
+    }
+    const Eigen::VectorXd lambda = active_multipliers(contact_schur(contacts), violation);
+    if (!lambda.allFinite()) return {};
+    Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), rhs_.cols());
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const Contact& c = contacts[static_cast<std::size_t>(j)];
+      if (block_ == 2) {
+        add_row(g, 0, c, lambda(j));
+      } else {
+        add_row(g, 0, c, lambda(j) * c.n.x());
+        add_row(g, 1, c, lambda(j) * c.n.y());
+      }
+    }
+    const Eigen::MatrixXd y = solver_.solve(g);
+    if (!y.allFinite()) return {};
+    std::vector<Vec2> dir = free;
+    for (std::uint32_t v = 1; v < dir.size(); ++v) dir[v] -= Vec2(at(y, v, 0), at(y, v, 1));
+    return dir;
   }
 
  private:
@@ -278,6 +321,87 @@ class ProxySystem {
   }
   double at(const Eigen::MatrixXd& m, std::uint32_t v, int c) const {
     return block_ == 2 ? m(unknown(v, c), 0) : m(unknown(v, 0), c);
+  }
+
+  // Adds scale x (the contact's row) to column `col` of g: with 2x2 blocks n_x and n_y on the
+  // u and v unknowns, with the isotropic proxy the vertex combination E alone (vertex 0 is
+  // pinned: no unknown).
+  void add_row(Eigen::MatrixXd& g, Eigen::Index col, const Contact& c, double scale) const {
+    for (int k = 0; k < 3; ++k) {
+      if (c.v[k] == 0) continue;
+      if (block_ == 2) {
+        for (int a = 0; a < 2; ++a) g(unknown(c.v[k], a), col) += scale * c.coef[k] * c.n[a];
+      } else {
+        g(unknown(c.v[k], 0), col) += scale * c.coef[k];
+      }
+    }
+  }
+
+  // The row of contact c applied to column `col` of y (laid out like add_row's g).
+  double row_times(const Contact& c, const Eigen::MatrixXd& y, Eigen::Index col) const {
+    double sum = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (c.v[k] == 0) continue;
+      if (block_ == 2) {
+        for (int a = 0; a < 2; ++a) sum += c.coef[k] * c.n[a] * y(unknown(c.v[k], a), col);
+      } else {
+        sum += c.coef[k] * y(unknown(c.v[k], 0), col);
+      }
+    }
+    return sum;
+  }
+
+  // S = G A^-1 G^T, solved in chunks of 16 right-hand sides (bounded memory at 1M faces). With
+  // the isotropic proxy a contact's row is n_x E on u and n_y E on v, so one solve with E
+  // serves both and S_ij = (n_i . n_j) E_i^T A^-1 E_j.
+  Eigen::MatrixXd contact_schur(const std::vector<Contact>& contacts) const {
+    const auto m = static_cast<Eigen::Index>(contacts.size());
+    Eigen::MatrixXd s(m, m);
+    constexpr Eigen::Index kChunk = 16;
+    for (Eigen::Index first = 0; first < m; first += kChunk) {
+      const Eigen::Index count = std::min(kChunk, m - first);
+      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), count);
+      for (Eigen::Index j = 0; j < count; ++j) add_row(g, j, contacts[static_cast<std::size_t>(first + j)], 1.0);
+      const Eigen::MatrixXd w = solver_.solve(g);
+      for (Eigen::Index i = 0; i < m; ++i) {
+        const Contact& ci = contacts[static_cast<std::size_t>(i)];
+        for (Eigen::Index j = 0; j < count; ++j) {
+          const double e = row_times(ci, w, j);
+          s(i, first + j) = block_ == 1 ? e * ci.n.dot(contacts[static_cast<std::size_t>(first + j)].n) : e;
+        }
+      }
+    }
+    return s;
+  }
+
+  // Multipliers of S lambda = violation on the active contacts, the others 0. Contacts are
+  // inequalities (a vertex may leave its edge): one whose multiplier pulls (positive here) is
+  // released, the largest first, and the rest re-solved. Redundant contacts (a vertex against
+  // both edges of a corner) make S singular: a ridge of 1e-10 of its diagonal.
+  static Eigen::VectorXd active_multipliers(Eigen::MatrixXd s, const Eigen::VectorXd& violation) {
+    const Eigen::Index m = s.rows();
+    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(m);
+    if (m == 0) return lambda;
+    s.diagonal().array() += 1e-10 * std::max(s.diagonal().cwiseAbs().maxCoeff(), 1e-300);
+    std::vector<Eigen::Index> active(static_cast<std::size_t>(m));
+    for (Eigen::Index i = 0; i < m; ++i) active[static_cast<std::size_t>(i)] = i;
+    while (!active.empty()) {
+      const auto k = static_cast<Eigen::Index>(active.size());
+      Eigen::MatrixXd sa(k, k);
+      Eigen::VectorXd va(k);
+      for (Eigen::Index i = 0; i < k; ++i) {
+        const Eigen::Index ai = active[static_cast<std::size_t>(i)];
+        va(i) = violation(ai);
+        for (Eigen::Index j = 0; j < k; ++j) sa(i, j) = s(ai, active[static_cast<std::size_t>(j)]);
+      }
+      const Eigen::VectorXd la = sa.ldlt().solve(va);
+      lambda.setZero();
+      for (Eigen::Index i = 0; i < k; ++i) lambda(active[static_cast<std::size_t>(i)]) = la(i);
+      Eigen::Index worst = 0;
+      if (!la.allFinite() || la.maxCoeff(&worst) <= 0) break;
+      active.erase(active.begin() + worst);
+    }
+    return lambda;
   }
 
   // The slot entry of corners k != l and components a, b: the corner pair (k + l - 1), then
@@ -391,31 +515,69 @@ struct HeldSearch {
   bool descended = false;
 };
 
+// The contact between boundary vertex c.vertex and edge (c.a, c.b) linearised at `uv`: the
+// vertex may slide along the edge but not approach it, and one within 2 gaps of it moves out.
+ProxySystem::Contact linearised_contact(const std::vector<Vec2>& uv, const CollisionStep::Contact& c, double gap) {
+  const Vec2 e = uv[c.b] - uv[c.a];
+  const Vec2 q = uv[c.vertex] - uv[c.a];
+  const double len2 = e.squaredNorm();
+  const double s = len2 > 0 ? std::clamp(q.dot(e) / len2, 0.0, 1.0) : 0.0;
+  const Vec2 off = q - s * e;
+  const double dist = off.norm();
+  Vec2 n = Vec2(-e.y(), e.x()) / std::max(std::sqrt(len2), 1e-300);
+  if (dist > 1e-9 * std::sqrt(len2)) {
+    n = off / dist;
+  } else if (n.dot(q) < 0) {
+    n = -n;
+  }
+  return {.v = {c.vertex, c.a, c.b}, .coef = {1.0, -(1 - s), -s}, .n = n, .h = std::max(0.0, 2 * gap - dist)};
+}
+
 // Truncating the whole step at the first boundary contact would stall every vertex for the
-// sake of a few. Instead hold the vertices of the colliding pairs where they are and let the
-// rest move (bounds recomputed for that direction, so the guarantees hold); a few rounds,
-// since holding some may expose other contacts. The first kResolveRounds rounds re-solve the
-// proxy with the held vertices tied to their places by stiff springs, so that the free ones
-// move as well as they can with these held (zeroing the held ones alone may ascend).
-HeldSearch held_search(Descent& d, const std::vector<Vec2>& direction, CollisionStep collision) {
+// sake of a few. Instead the colliding vertex-edge pairs become linearised contacts and the
+// proxy is minimised subject to them with the step's own factor (ProxySystem::constrained):
+// the touching vertices may still slide along their edges or leave them, and the rest of the
+// chart moves as well as it can. The bounds are recomputed for that direction (so the
+// guarantees hold) for a few rounds, since the new direction may meet other contacts; a pair
+// that still collides, or any beyond the solve budget (what one factorization costs, at least
+// kMinContactSolves), has its three vertices held still instead. Before issue 14 the colliding
+// vertices were pinned by stiff springs and the proxy factored again: one more factorization
+// per contact-limited step, and the vertices could not slide.
+HeldSearch contact_search(Descent& d, const std::vector<Vec2>& direction, CollisionStep collision) {
   const std::vector<Vec2>& uv = d.result.uv;
   const std::size_t n = uv.size();
   HeldSearch out;
   std::vector<Vec2> held = direction;
   std::vector<char> pinned(n, 0);
-  const double spring = 1e6 * d.proxy.max_diagonal();
+  std::vector<ProxySystem::Contact> contacts;
+  std::vector<std::array<std::uint32_t, 3>> keys;
+  const auto budget = std::max(kMinContactSolves, static_cast<int>(d.proxy.solves_per_factorization()));
+  int spent = 0;
   for (int round = 0; round < kHoldRounds && collision.limited; ++round) {
-    for (std::uint32_t v : collision.colliding) {
-      if (pinned[v]) continue;
-      pinned[v] = 1;
-      if (round < kResolveRounds) d.proxy.hold(v, uv[v], spring);
-    }
-    if (round < kResolveRounds) {
-      if (d.proxy.factorize()) {
-        ++d.result.factorizations;
-        std::vector<Vec2> resolved = d.proxy.direction(uv);
-        if (!resolved.empty()) held = std::move(resolved);
+    std::sort(collision.contacts.begin(), collision.contacts.end(), [](const auto& x, const auto& y) {
+      return std::tie(x.time, x.vertex, x.a) < std::tie(y.time, y.vertex, y.a);
+    });
+    bool added = false;
+    for (const CollisionStep::Contact& c : collision.contacts) {
+      const std::array<std::uint32_t, 3> key = {c.vertex, c.a, c.b};
+      if (std::find(keys.begin(), keys.end(), key) != keys.end()) {
+        // Linearised, it still collides (the edge turns): hold it still.
+        for (std::uint32_t v : key) pinned[v] = 1;
+        continue;
       }
+      if (spent + static_cast<int>(contacts.size()) + 2 <= budget) {
+        keys.push_back(key);
+        contacts.push_back(linearised_contact(uv, c, d.gap));
+        added = true;
+      } else {
+        for (std::uint32_t v : key) pinned[v] = 1;
+      }
+    }
+    if (added) {
+      spent += static_cast<int>(contacts.size()) + 1;
+      d.result.contact_solves += static_cast<int>(contacts.size()) + 1;
+      std::vector<Vec2> solved = d.proxy.constrained(direction, contacts);
+      if (!solved.empty()) held = std::move(solved);
     }
     for (std::uint32_t v = 0; v < n; ++v) {
       if (pinned[v]) held[v] = Vec2::Zero();
@@ -449,7 +611,7 @@ StepOutcome bounded_step(Descent& d, const std::vector<Vec2>& direction) {
     if (collision.limited) {
       ++d.result.collision_limited_steps;
       out.collided = true;
-      const HeldSearch held = held_search(d, direction, collision);
+      const HeldSearch held = contact_search(d, direction, collision);
       if (held.descended) {
         out.energy = held.energy;
         lap(timings.collision_ms, clock);
@@ -507,8 +669,10 @@ bool descend(Descent& d, const CancelToken& cancel) {
   // energy keeps every step a descent step either way.
   double weight_cap = kInf;
   // A Tutte start is far from the optimum (its convex boundary squeezes whole regions), so it
-  // gets three times the step budget; so do steps that boundary contacts slow down.
-  int max_iterations = result.tutte_start ? 3 * d.options.iterations : d.options.iterations;
+  // gets three times the step budget. Contact-limited steps get no more: they cost one
+  // factorization each, like the others (contact_search), and they are the budget.
+  const int max_iterations = result.tutte_start ? 3 * d.options.iterations : d.options.iterations;
+  std::array<double, kWindow> gains{};  // relative decrease of the last kWindow steps, cyclic
   while (result.iterations < max_iterations) {
     if (cancel.is_cancelled()) return false;
     Clock::time_point clock = Clock::now();
@@ -536,14 +700,20 @@ bool descend(Descent& d, const CancelToken& cancel) {
     result.uv.swap(d.trial);
     const double decrease = (d.energy - step.energy) / d.energy;
     d.energy = step.energy;
+    gains[static_cast<std::size_t>(result.iterations % kWindow)] = decrease;
     ++result.iterations;
-    if (step.collided) max_iterations = std::max(max_iterations, 3 * d.options.iterations);
-    // A step held back by a contact gains little without being converged: go on.
-    if (decrease < d.options.tolerance && !step.collided) break;
+    if (!step.collided) {
+      if (decrease < d.options.tolerance) break;
+      continue;
+    }
+    // A contact-limited step gains unevenly (a contact released, then another met), so one
+    // small gain does not mean convergence: the window's mean gain is measured instead.
+    double window_gain = 0;
+    for (double g : gains) window_gain += g;
+    if (result.iterations >= kWindow && window_gain < kWindow * kWindowTolerance * d.options.tolerance) break;
   }
   return true;
 }
-
 
 }  // namespace
 

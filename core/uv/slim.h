@@ -37,13 +37,14 @@ struct SlimTimings {
   double assemble_ms = 0;     ///< proxy weights and system values, all steps
   double factor_ms = 0;       ///< numeric factorizations and solves, all steps
   double line_search_ms = 0;  ///< injective step bounds and energy evaluations, all steps
-  double collision_ms = 0;    ///< boundary collision bounds and held-vertex rounds, all steps
+  double collision_ms = 0;    ///< boundary collision bounds and contact rounds, all steps
 };
 
 struct SlimResult {
   std::vector<Vec2> uv;  ///< one UV per local vertex, at 3D scale; no triangle flipped
   int iterations = 0;    ///< global steps taken
-  int factorizations = 0;  ///< numeric factorizations of the proxy, held-vertex re-solves included
+  int factorizations = 0;  ///< numeric factorizations of the proxy (one per step, plus a retry
+                           ///< with capped weights); contacts are solved with the step's factor
   /// Area-weighted mean symmetric Dirichlet energy s1^2 + 1/s1^2 + s2^2 + 1/s2^2 (4 for an
   /// isometry) of the start after scaling, and of the result.
   double energy_start = 0;
@@ -55,8 +56,11 @@ struct SlimResult {
   /// With options.injective: the given start had no fold but its boundary crossed itself, so
   /// SLIM started from Tutte's embedding (tutte_start is then true as well).
   bool overlapping_start = false;
-  /// Steps whose length the boundary collision bound shortened.
+  /// Steps whose length the boundary collision bound shortened (contact-limited steps).
   int collision_limited_steps = 0;
+  /// Solves with an existing factor for linearised boundary contacts (one per contact and
+  /// round, plus one per round), in right-hand sides.
+  int contact_solves = 0;
   /// The result's boundary is a simple closed curve and no triangle folds: the map is
   /// injective (always true with options.injective, up to the rounding of the contact times).
   bool injective = false;
@@ -74,10 +78,16 @@ struct SlimResult {
 /// "locks" the way ARAP's bounded steps do. With options.injective (the default) the map also
 /// stays globally injective: a Tutte start when the given start's boundary crosses itself, and
 /// each step bounded by Smith & Schaefer 2015's collision bound (no barrier term: a boundary
-/// that would cross itself stops at 90% of the contact, step after step).
+/// that would cross itself stops at 90% of the contact, step after step). A contact-limited
+/// step re-minimises the proxy with the colliding vertex-edge pairs as linearised contacts,
+/// solved with the step's own factor (the vertices slide along the edges they touch), so it
+/// costs one factorization like any step; the step budget is the same with or without contacts
+/// (3x iterations from a Tutte start), and a contact-limited step ends the descent when the
+/// last 3 steps together gained less than 1.5x the tolerance (deterministic: counts, no clock).
 /// Errors: kInvalidArgument (initial.size() != patch vertices, options out of range),
 /// kSolverFailed (only if the Tutte start cannot be solved), kCancelled.
-/// Complexity: iterations x (sparse Cholesky of 2n x 2n + O(F) line search).
+/// Complexity: iterations x (sparse Cholesky of 2n x 2n + O(F) line search), plus per
+/// contact-limited step at most max(32, one factorization's flops) worth of solves.
 Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initial, const SlimOptions& options,
                                 const CancelToken& cancel);
 

@@ -10,11 +10,15 @@
 #include <numbers>
 
 #include "core/atlas/overlap.h"
+#include "core/extrema/extrema.h"
+#include "core/mesh/cut.h"
+#include "core/seam/seam.h"
 #include "core/uv/bff.h"
 #include "core/uv/collision.h"
 #include "core/uv/slim.h"
 #include "core/mesh/topology.h"
 #include "core/uv/uv_patch.h"
+#include "test_data.h"
 #include "uv_fixture.h"
 
 using namespace seam::core;
@@ -223,4 +227,47 @@ TEST_CASE("the collision step bound stops a boundary vertex exactly at the edge 
   // Moved past the contact, the boundary is no longer simple.
   uv[moving] += 1.5 * dir[moving];
   CHECK_FALSE(boundary_is_simple(patch, uv));
+}
+
+TEST_CASE("a chart whose boundary keeps touching itself stops within the step budget, injective") {
+  // CGAL's elephant cut by Sheffer's MST seam: BFF's map overlaps itself (Tutte start), and on
+  // the way to the optimum the trunk and legs run into each other, so most steps are
+  // contact-limited. Each such step costs its one factorization (the contacts are solved with
+  // it, not re-factored), the budget is the Tutte start's, not extended, and the window of
+  // contact-limited gains ends the descent before it; the map stays injective and its energy
+  // near the fold-free (overlapping) optimum's.
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("elephant");
+  auto extrema = find_extrema(mesh);
+  REQUIRE(extrema.ok());
+  auto seam = compute_seam(mesh, *extrema, {.method = SeamMethod::kMst});
+  REQUIRE(seam.ok());
+  auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
+  REQUIRE(cut.ok());
+  auto patches = extract_disc_patches(cut->mesh, compute_topology(cut->mesh));
+  REQUIRE(patches.ok());
+  REQUIRE(patches->size() == 1);
+  const DiscPatch& patch = patches->front();
+  std::vector<Vec2> start = bff_start(patch);
+  repair_flips(patch, start);
+  const SlimOptions options;
+  auto r = flatten_slim(patch, start, options, CancelToken::none());
+  REQUIRE(r.ok());
+  CHECK(r->collision_limited_steps > 0);
+  CHECK(r->contact_solves > 0);
+  const int budget = (r->tutte_start ? 3 : 1) * options.iterations;
+  CHECK(r->iterations < budget);
+  // One factorization per step (plus at most one retry with capped weights): no re-solve.
+  CHECK(r->factorizations <= r->iterations + 1);
+  CHECK(r->injective);
+  CHECK(count_flipped(patch, r->uv) == 0);
+  CHECK(boundary_is_simple(patch, r->uv));
+  auto overlap = find_overlaps(r->uv, patch.triangles);
+  REQUIRE(overlap.ok());
+  CHECK_FALSE(overlap->overlaps);
+  auto loose = flatten_slim(patch, start, {.injective = false}, CancelToken::none());
+  REQUIRE(loose.ok());
+  auto loose_overlap = find_overlaps(loose->uv, patch.triangles);
+  REQUIRE(loose_overlap.ok());
+  CHECK(loose_overlap->overlaps);
+  CHECK(r->energy_end <= 1.02 * loose->energy_end);
 }
