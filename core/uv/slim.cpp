@@ -281,6 +281,20 @@ class ProxySystem {
     return lnz > 0 ? fl / (4 * lnz) : 1;
   }
 
+  // A stiff spring holding vertex v at `where` (in the matrix and the right-hand side).
+  void hold(std::uint32_t v, const Vec2& where, double spring) {
+    if (v == 0) return;
+    for (int c = 0; c < block_; ++c) system_.valuePtr()[system_.outerIndexPtr()[unknown(v, c)]] += spring;
+    at(rhs_, v, 0) += spring * where.x();
+    at(rhs_, v, 1) += spring * where.y();
+  }
+
+  double max_diagonal() const {
+    double d = 0;
+    for (Eigen::Index c = 0; c < system_.cols(); ++c) d = std::max(d, std::abs(system_.valuePtr()[system_.outerIndexPtr()[c]]));
+    return d;
+  }
+
   // The minimiser of the factorized proxy (as `direction`: `free` = A^-1 r) subject to the
   // contacts as inequalities n . (relative motion) >= h, by their Schur complement
   // S = G A^-1 G^T with the step's own factor: one solve per contact, then one for the
@@ -351,13 +365,13 @@ class ProxySystem {
     return sum;
   }
 
-  // S = G A^-1 G^T, solved in chunks of 16 right-hand sides (bounded memory at 1M faces). With
+  // S = G A^-1 G^T, solved in chunks of 4 right-hand sides (20 MB each at 1.25M faces). With
   // the isotropic proxy a contact's row is n_x E on u and n_y E on v, so one solve with E
   // serves both and S_ij = (n_i . n_j) E_i^T A^-1 E_j.
   Eigen::MatrixXd contact_schur(const std::vector<Contact>& contacts) const {
     const auto m = static_cast<Eigen::Index>(contacts.size());
     Eigen::MatrixXd s(m, m);
-    constexpr Eigen::Index kChunk = 16;
+    constexpr Eigen::Index kChunk = 4;
     for (Eigen::Index first = 0; first < m; first += kChunk) {
       const Eigen::Index count = std::min(kChunk, m - first);
       Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), count);
@@ -533,60 +547,88 @@ ProxySystem::Contact linearised_contact(const std::vector<Vec2>& uv, const Colli
   return {.v = {c.vertex, c.a, c.b}, .coef = {1.0, -(1 - s), -s}, .n = n, .h = std::max(0.0, 2 * gap - dist)};
 }
 
+// What contact_search keeps between its rounds.
+struct ContactRound {
+  std::vector<Vec2> free;   // the proxy's step (re-solved once if springs were added)
+  std::vector<Vec2> held;   // the step with the contacts and held vertices
+  std::vector<char> pinned; // vertices held still
+  std::vector<ProxySystem::Contact> contacts;
+  std::vector<std::array<std::uint32_t, 3>> keys;  // their (vertex, a, b)
+  int budget = 0;           // solves one factorization is worth
+  int spent = 0;            // solves so far
+  bool refactored = false;  // springs added and the proxy factored again (once per step)
+};
+
+// One round's new colliding pairs: within the solve budget they become contacts; a pair that
+// already is one and still collides (the edge turns) has its vertices held still; beyond the
+// budget, solving them would cost more than a factorization, so their vertices are tied by
+// stiff springs (1e6 x the largest diagonal) and the proxy is factored again, once per step
+// (issue 12's way, there only when it is the cheaper one). Then the step is re-solved.
+void add_contacts(Descent& d, CollisionStep& collision, ContactRound& state) {
+  const std::vector<Vec2>& uv = d.result.uv;
+  std::sort(collision.contacts.begin(), collision.contacts.end(), [](const auto& x, const auto& y) {
+    return std::tie(x.time, x.vertex, x.a) < std::tie(y.time, y.vertex, y.a);
+  });
+  bool added = false;
+  std::vector<std::uint32_t> spring;
+  for (const CollisionStep::Contact& c : collision.contacts) {
+    const std::array<std::uint32_t, 3> key = {c.vertex, c.a, c.b};
+    const bool known = std::find(state.keys.begin(), state.keys.end(), key) != state.keys.end();
+    if (!known && state.spent + static_cast<int>(state.contacts.size()) + 2 <= state.budget) {
+      state.keys.push_back(key);
+      state.contacts.push_back(linearised_contact(uv, c, d.gap));
+      added = true;
+      continue;
+    }
+    for (std::uint32_t v : key) {
+      if (!known && !state.refactored && !state.pinned[v]) spring.push_back(v);
+      state.pinned[v] = 1;
+    }
+  }
+  if (!spring.empty()) {
+    const double stiffness = 1e6 * d.proxy.max_diagonal();
+    for (std::uint32_t v : spring) d.proxy.hold(v, uv[v], stiffness);
+    state.refactored = true;
+    if (d.proxy.factorize()) {
+      ++d.result.factorizations;
+      std::vector<Vec2> resolved = d.proxy.direction(uv);
+      if (!resolved.empty()) state.free = std::move(resolved);
+    }
+    state.held = state.free;
+    added = true;
+  }
+  if (added && !state.contacts.empty()) {
+    state.spent += static_cast<int>(state.contacts.size()) + 1;
+    d.result.contact_solves += static_cast<int>(state.contacts.size()) + 1;
+    std::vector<Vec2> solved = d.proxy.constrained(state.free, state.contacts);
+    if (!solved.empty()) state.held = std::move(solved);
+  }
+}
+
 // Truncating the whole step at the first boundary contact would stall every vertex for the
 // sake of a few. Instead the colliding vertex-edge pairs become linearised contacts and the
 // proxy is minimised subject to them with the step's own factor (ProxySystem::constrained):
 // the touching vertices may still slide along their edges or leave them, and the rest of the
 // chart moves as well as it can. The bounds are recomputed for that direction (so the
-// guarantees hold) for a few rounds, since the new direction may meet other contacts; a pair
-// that still collides, or any beyond the solve budget (what one factorization costs, at least
-// kMinContactSolves), has its three vertices held still instead. Before issue 14 the colliding
-// vertices were pinned by stiff springs and the proxy factored again: one more factorization
-// per contact-limited step, and the vertices could not slide.
+// guarantees hold) for a few rounds, since the new direction may meet other contacts
+// (add_contacts). Before issue 14 every colliding vertex was pinned by a stiff spring and the
+// proxy factored again: one more factorization per contact-limited step, and the vertices
+// could not slide; now that happens only for the contacts beyond the solve budget.
 HeldSearch contact_search(Descent& d, const std::vector<Vec2>& direction, CollisionStep collision) {
   const std::vector<Vec2>& uv = d.result.uv;
-  const std::size_t n = uv.size();
   HeldSearch out;
-  std::vector<Vec2> held = direction;
-  std::vector<char> pinned(n, 0);
-  std::vector<ProxySystem::Contact> contacts;
-  std::vector<std::array<std::uint32_t, 3>> keys;
-  const auto budget = std::max(kMinContactSolves, static_cast<int>(d.proxy.solves_per_factorization()));
-  int spent = 0;
+  ContactRound state{.free = direction, .held = direction, .pinned = std::vector<char>(uv.size(), 0)};
+  state.budget = std::max(kMinContactSolves, static_cast<int>(d.proxy.solves_per_factorization()));
   for (int round = 0; round < kHoldRounds && collision.limited; ++round) {
-    std::sort(collision.contacts.begin(), collision.contacts.end(), [](const auto& x, const auto& y) {
-      return std::tie(x.time, x.vertex, x.a) < std::tie(y.time, y.vertex, y.a);
-    });
-    bool added = false;
-    for (const CollisionStep::Contact& c : collision.contacts) {
-      const std::array<std::uint32_t, 3> key = {c.vertex, c.a, c.b};
-      if (std::find(keys.begin(), keys.end(), key) != keys.end()) {
-        // Linearised, it still collides (the edge turns): hold it still.
-        for (std::uint32_t v : key) pinned[v] = 1;
-        continue;
-      }
-      if (spent + static_cast<int>(contacts.size()) + 2 <= budget) {
-        keys.push_back(key);
-        contacts.push_back(linearised_contact(uv, c, d.gap));
-        added = true;
-      } else {
-        for (std::uint32_t v : key) pinned[v] = 1;
-      }
+    add_contacts(d, collision, state);
+    for (std::uint32_t v = 0; v < uv.size(); ++v) {
+      if (state.pinned[v]) state.held[v] = Vec2::Zero();
     }
-    if (added) {
-      spent += static_cast<int>(contacts.size()) + 1;
-      d.result.contact_solves += static_cast<int>(contacts.size()) + 1;
-      std::vector<Vec2> solved = d.proxy.constrained(direction, contacts);
-      if (!solved.empty()) held = std::move(solved);
-    }
-    for (std::uint32_t v = 0; v < n; ++v) {
-      if (pinned[v]) held[v] = Vec2::Zero();
-    }
-    const double held_step = std::min(1.0, 0.9 * max_injective_step(d.patch, uv, held));
-    collision = max_collision_free_step(d.patch, uv, held, held_step, d.gap);
+    const double held_step = std::min(1.0, 0.9 * max_injective_step(d.patch, uv, state.held));
+    collision = max_collision_free_step(d.patch, uv, state.held, held_step, d.gap);
     if (!collision.limited || round == kHoldRounds - 1) {
       const double bound = collision.limited ? 0.9 * collision.step : held_step;
-      out.energy = line_search(d, held, bound);
+      out.energy = line_search(d, state.held, bound);
       out.descended = out.energy < d.energy;
     }
   }
