@@ -6,6 +6,7 @@
 //   --skeleton-only: the timing table without the mst, greedy and optimal columns
 //   --fingerprint: after each length row, every method's exact length (%.17g), seam edge
 //     count and an FNV-1a hash of its seam edge ids, to show that a refactor changed nothing
+//   --size hand|camel|camel-large, --k N (repeatable): timing rows for these sizes / k only
 //
 // Extrema rule (deterministic): farthest-point sampling by edge-graph distance, starting from
 // the vertex farthest from the smallest non-isolated vertex (tests/seam_fixtures.h).
@@ -39,6 +40,8 @@ constexpr SeamMethod kMethods[] = {SeamMethod::kSkeleton, SeamMethod::kMst, Seam
                                    SeamMethod::kOptimal};
 
 bool g_fingerprint = false;
+std::vector<std::string> g_sizes;  // --size: timing rows of these sizes only (empty: all)
+std::vector<std::size_t> g_ks;     // --k: timing rows with these k only (empty: all)
 
 // FNV-1a over the edge ids in the order compute_seam returns them.
 std::uint64_t edge_hash(const std::vector<EdgeId>& edges) {
@@ -168,10 +171,13 @@ void timing_table(bool quick, bool skeleton_only) {
   struct Size {
     const char* base;
     std::size_t min_faces;
+    const char* key;  // --size
   };
-  const std::vector<Size> sizes = quick ? std::vector<Size>{{"hand", 9000}}
-                                        : std::vector<Size>{{"hand", 9000}, {"camel", 70000}, {"camel", 1000000}};
+  const std::vector<Size> sizes =
+      quick ? std::vector<Size>{{"hand", 9000, "hand"}}
+            : std::vector<Size>{{"hand", 9000, "hand"}, {"camel", 70000, "camel"}, {"camel", 1000000, "camel-large"}};
   for (const auto& size : sizes) {
+    if (!g_sizes.empty() && std::find(g_sizes.begin(), g_sizes.end(), size.key) == g_sizes.end()) continue;
     // Numbered as the service numbers meshes (Z-order), not in subdivision order.
     auto built = build(bench::spatially_ordered(bench::subdivide_to(bench::load_cgal(size.base), size.min_faces)));
     if (!built.ok()) continue;
@@ -179,6 +185,7 @@ void timing_table(bool quick, bool skeleton_only) {
     const auto all_extrema = fixtures::farthest_point_extrema(mesh, 32);
     const int repeats = mesh.num_faces() < 200000 ? 3 : 1;
     for (std::size_t k : {4u, 8u, 16u, 32u}) {
+      if (!g_ks.empty() && std::find(g_ks.begin(), g_ks.end(), k) == g_ks.end()) continue;
       const std::span<const VertexId> extrema(all_extrema.data(), std::min(k, all_extrema.size()));
       double total[5] = {0, 0, 0, 0, 0};
       double length[2] = {0, 0};
@@ -251,6 +258,8 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--timings")) lengths = false;
     if (!std::strcmp(argv[i], "--skeleton-only")) skeleton_only = true;
     if (!std::strcmp(argv[i], "--fingerprint")) g_fingerprint = true;
+    if (!std::strcmp(argv[i], "--size") && i + 1 < argc) g_sizes.emplace_back(argv[++i]);
+    if (!std::strcmp(argv[i], "--k") && i + 1 < argc) g_ks.push_back(std::stoul(argv[++i]));
   }
   if (lengths) length_table(quick, only);
   if (timings) timing_table(quick, skeleton_only);

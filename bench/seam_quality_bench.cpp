@@ -13,7 +13,9 @@
 // Seam-stage time = paths + method (ms, summed over the rows of a mesh), measured in one
 // process with the variants run back to back per row; other sessions share the 2 cores, so
 // compare the ratios, not the absolute figures.
-//   ./bench/seam_quality_bench [--quick] [--verbose] [--sets N] [--mesh NAME] [--speed | --no-speed | --large]
+//   ./bench/seam_quality_bench [--quick] [--verbose] [--fingerprint] [--sets N] [--mesh NAME]
+//                              [--speed | --no-speed | --large]
+//   --fingerprint: every row's exact lengths (%.17g) per variant, to show a change kept them
 //   --large: the seam stage at 1.25M faces with 16 extrema (one run per variant)
 #include <algorithm>
 #include <chrono>
@@ -35,6 +37,7 @@ using namespace seam::core;
 namespace {
 
 bool g_verbose = false;  // --verbose: every row above 1.01 to stderr
+bool g_fingerprint = false;  // --fingerprint: every row's lengths to stdout
 constexpr double kTargetWorst = 1.03;
 constexpr double kTargetMean = 1.005;
 
@@ -120,6 +123,7 @@ void run_mesh(const MeshSpec& spec, std::size_t sets, std::vector<Tally>& overal
       continue;
     }
     optimal_ms += stage_ms(*optimal);
+    std::string fingerprint;
     for (std::size_t i = 0; i < vars.size(); ++i) {
       auto r = compute_seam(mesh, extrema, vars[i].options);
       if (!r.ok()) {
@@ -134,10 +138,17 @@ void run_mesh(const MeshSpec& spec, std::size_t sets, std::vector<Tally>& overal
       }
       tally[i].add(ratio, stage_ms(*r));
       overall[i].add(ratio, 0);
+      char fp[64];
+      std::snprintf(fp, sizeof fp, " %s %.17g", vars[i].name, r->length);
+      fingerprint += fp;
       if (r->optimal) {
         ++tally[i].claimed_optimal;
         if (ratio > 1.0 + 1e-9) ++tally[i].wrong_claims;
       }
+    }
+    if (g_fingerprint) {
+      std::printf("fingerprint %s k=%zu optimal %.17g%s\n", spec.name.c_str(), extrema.size(), optimal->length,
+                  fingerprint.c_str());
     }
   }
   std::printf("| %s | %zu | %d/%zu | %zu |", spec.name.c_str(), mesh.num_faces(), topo.total_genus(),
@@ -207,6 +218,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) quick = true;
     if (std::strcmp(argv[i], "--verbose") == 0) g_verbose = true;
+    if (std::strcmp(argv[i], "--fingerprint") == 0) g_fingerprint = true;
     if (std::strcmp(argv[i], "--speed") == 0) speed_only = true;
     if (std::strcmp(argv[i], "--large") == 0) speed_only = large = true;
     if (std::strcmp(argv[i], "--no-speed") == 0) no_speed = true;

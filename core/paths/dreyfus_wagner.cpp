@@ -107,27 +107,72 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
   return Ok{};
 }
 
-// The singleton rows (distances from each port, bounded by the problem's bound) and, for a
-// bounded problem, the lower bounds' rows: where loose subtrees could be passed, distances
-// with every one of them passable (only terminals other than the seeds block), which bound
-// any tree path to the port from below; and the root's distances.
-Status DreyfusWagner::distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem,
-                                    const CancelToken& cancel) {
+// The singleton rows: distances from each port, bounded by the problem's bound. With
+// `prune` (a bounded problem whose relaxed rows exist) those rows prune these like the
+// others: a tree through port q's state at v also joins every other port (and the root) from v.
+Status DreyfusWagner::singleton_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool prune,
+                                     const CancelToken& cancel) {
   const std::size_t n = graph.num_vertices();
   const std::size_t p = problem.ports;
+  LowerBound lower;
   for (std::size_t q = 0; q < p; ++q) {
     const std::uint32_t s = std::uint32_t{1} << q;
     for (std::uint32_t v : port_vertices_[q]) table_.value[s * n + v] = 0.0;
     table_.finite[s] = port_vertices_[q];
-    if (auto st = grow(graph, problem, s, table_, s, nullptr, cancel); !st.ok()) return st.take_error();
+    // Without relaxed rows the singleton rows are the other rows' lower bounds: not pruned.
+    lower.rows.clear();
+    if (prune) {
+      if (problem.root.valid()) lower.rows.push_back(relaxed_.value.data() + p * n);
+      for (std::size_t r = 0; r < p; ++r) {
+        if (r != q) lower.rows.push_back(relaxed_.value.data() + r * n);
+      }
+    }
+    if (auto st = grow(graph, problem, s, table_, s, prune ? &lower : nullptr, cancel); !st.ok()) {
+      return st.take_error();
+    }
   }
-  if (problem.bound == kInf) return Ok{};
-  bool passable = false;  // obstacles that are loose subtrees, not only terminals
-  for (std::size_t v = 0; v < n && !passable; ++v) passable = problem.obstacle[v] && !problem.leaf_only[v];
-  // Where only terminals block, each singleton row is its own relaxed row.
-  lower_from_table_ = !passable;
-  relaxed_.reset(p + 1, n);
-  if (!passable && !problem.root.valid()) return Ok{};
+  return Ok{};
+}
+
+// A lower bound on any tree's cost from distance rows that bound each port's (and the root's)
+// tree paths from below: any three of them are joined by a subtree with at most one branch
+// vertex c, whose legs are edge-disjoint tree paths, so it costs at least the rows' sum at c.
+// The bound is the largest, over triples (or the one pair), of the smallest such sum.
+double DreyfusWagner::rows_bound(std::span<const std::uint32_t> rows, const Rows& from) const {
+  const std::size_t n = from.stride;
+  auto at = [&](std::uint32_t r, std::uint32_t v) { return from.value[static_cast<std::size_t>(r) * n + v]; };
+  auto smallest_sum = [&](std::span<const std::uint32_t> group) {
+    std::uint32_t walk = group[0];  // a sum is finite only on every row's list: walk the shortest
+    for (std::uint32_t r : group) walk = from.finite[r].size() < from.finite[walk].size() ? r : walk;
+    double best = kInf;
+    for (std::uint32_t v : from.finite[walk]) {
+      double sum = 0.0;
+      for (std::uint32_t r : group) sum += at(r, v);
+      best = std::min(best, sum);
+    }
+    return best;
+  };
+  if (rows.size() < 2) return 0.0;
+  if (rows.size() == 2) return smallest_sum(rows);
+  double lower = 0.0;
+  for (std::size_t a = 0; a < rows.size(); ++a) {
+    for (std::size_t b = a + 1; b < rows.size(); ++b) {
+      for (std::size_t c = b + 1; c < rows.size(); ++c) {
+        const std::uint32_t group[] = {rows[a], rows[b], rows[c]};
+        lower = std::max(lower, smallest_sum(group));
+      }
+    }
+  }
+  return lower;
+}
+
+// For a bounded problem, the lower bounds' rows: where loose subtrees could be passed
+// (`passable`), distances with every one of them passable (only terminals other than the
+// seeds block), which bound any tree path to the port from below; and the root's distances.
+Status DreyfusWagner::relaxed_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool passable,
+                                   const CancelToken& cancel) {
+  const std::size_t n = graph.num_vertices();
+  const std::size_t p = problem.ports;
   seed_mask_.assign(n, 0);
   seed_blocks_.assign(problem.leaf_only.begin(), problem.leaf_only.end());
   GroupSteinerProblem open = problem;
@@ -199,6 +244,34 @@ std::vector<HalfedgeId> DreyfusWagner::trace(const EdgeGraph& graph, std::uint32
   return out;
 }
 
+// The relaxed rows (for a bounded or targeted problem), then the singleton rows, with the
+// target's test as soon as the rows it needs exist. False: the target is ruled out.
+Result<bool> DreyfusWagner::distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem,
+                                          const CancelToken& cancel) {
+  const std::size_t n = graph.num_vertices();
+  const std::size_t p = problem.ports;
+  const bool bounded = problem.bound < kInf;
+  const bool targeted = problem.target < kInf;
+  bool passable = false;  // obstacles that are loose subtrees, not only terminals
+  for (std::size_t v = 0; v < n && !passable; ++v) passable = problem.obstacle[v] && !problem.leaf_only[v];
+  // Where only terminals block, each singleton row is its own relaxed row.
+  lower_from_table_ = !passable;
+  relaxed_.reset(p + 1, n);
+  if ((bounded || targeted) && (passable || problem.root.valid())) {
+    if (auto st = relaxed_rows(graph, problem, passable, cancel); !st.ok()) return st.take_error();
+  }
+  std::vector<std::uint32_t> rows;  // the rows of the target's test: per port, and the root's
+  auto below_target = [&](const Rows& port_rows, bool singletons) {
+    rows.clear();
+    for (std::uint32_t q = 0; q < p; ++q) rows.push_back(singletons ? std::uint32_t{1} << q : q);
+    if (problem.root.valid() && !singletons) rows.push_back(static_cast<std::uint32_t>(p));
+    return rows_bound(rows, port_rows) < problem.target;
+  };
+  if (targeted && passable && !below_target(relaxed_, false)) return false;
+  if (auto st = singleton_rows(graph, problem, passable && bounded, cancel); !st.ok()) return st.take_error();
+  return !(targeted && !passable && !below_target(table_, true));
+}
+
 Result<GroupSteinerTree> DreyfusWagner::solve(const EdgeGraph& graph, const GroupSteinerProblem& problem,
                                               const CancelToken& cancel) {
   const std::size_t n = graph.num_vertices();
@@ -214,7 +287,12 @@ Result<GroupSteinerTree> DreyfusWagner::solve(const EdgeGraph& graph, const Grou
       port_vertices_[static_cast<std::size_t>(std::countr_zero(m))].push_back(v);
     }
   }
-  if (auto st = distance_rows(graph, problem, cancel); !st.ok()) return st.take_error();
+  SEAM_TRY(const bool open, distance_rows(graph, problem, cancel));
+  GroupSteinerTree tree;
+  if (!open) {
+    tree.target_ruled_out = true;
+    return tree;
+  }
   const bool bounded = problem.bound < kInf;
   LowerBound lower;
   for (std::uint32_t s = 1; s < rows; ++s) {
@@ -233,7 +311,6 @@ Result<GroupSteinerTree> DreyfusWagner::solve(const EdgeGraph& graph, const Grou
       return st.take_error();
     }
   }
-  GroupSteinerTree tree;
   const double* last = table_.value.data() + static_cast<std::size_t>(full) * n;
   std::uint32_t root = kNone;
   if (problem.root.valid()) {

@@ -36,11 +36,19 @@ struct GroupSteinerProblem {
   /// plus a lower bound on the rest: the largest distance to a port still to join, computed
   /// with every loose subtree passable) are dropped, which leaves the answer unchanged.
   double bound = std::numeric_limits<double>::infinity();
+  /// Finite: the caller only wants a tree cheaper than this. When a lower bound from the
+  /// distance rows (the cheapest subtree joining any three ports, or the two, with every loose
+  /// subtree passable) shows that none is, no tree is returned and target_ruled_out is set,
+  /// before the 2^ports table is filled. Exact: a tree is only left out if it costs at least
+  /// the bound, which is at least `target`. Infinite: no such test (the answer is the minimum
+  /// tree below `bound`).
+  double target = std::numeric_limits<double>::infinity();
 };
 
 struct GroupSteinerTree {
   double cost = std::numeric_limits<double>::infinity();  ///< infinite: no tree (below the bound)
   std::vector<HalfedgeId> halfedges;  ///< graph.halfedge of the tree's edges (any order)
+  bool target_ruled_out = false;  ///< no tree: the distance rows showed none costs less than the target
 };
 
 /// A reusable workspace (its tables are kept between solves). Not thread-safe.
@@ -50,7 +58,8 @@ class DreyfusWagner {
   /// each row by a multi-source Dijkstra. Ties by vertex id; deterministic.
   /// Preconditions (SEAM_ASSERT): the spans have graph.num_vertices() entries, 1 <= ports <= 30.
   /// Errors: kCancelled. Memory: 2^ports x V x 12 bytes (the caller caps it).
-  /// Complexity: O(3^p V + 2^p E log V), p = ports.
+  /// Complexity: O(3^p V + 2^p E log V), p = ports; with a target that the lower bound rules
+  /// out, O(p E log V + p^3 V).
   Result<GroupSteinerTree> solve(const EdgeGraph& graph, const GroupSteinerProblem& problem,
                                  const CancelToken& cancel = CancelToken::none());
 
@@ -68,7 +77,12 @@ class DreyfusWagner {
   struct LowerBound;  // the largest distance to a port the row still has to join
   Status grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, Rows& rows,
               std::uint32_t row, const LowerBound* lower, const CancelToken& cancel);
-  Status distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, const CancelToken& cancel);
+  Result<bool> distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, const CancelToken& cancel);
+  Status singleton_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool prune,
+                        const CancelToken& cancel);
+  double rows_bound(std::span<const std::uint32_t> rows, const Rows& from) const;
+  Status relaxed_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool passable,
+                      const CancelToken& cancel);
   void merge(const GroupSteinerProblem& problem, std::uint32_t s);
   std::vector<HalfedgeId> trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const;
 

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <bit>
-#include <unordered_set>
 #include <cstdint>
 #include <limits>
+#include <map>
+#include <optional>
+#include <unordered_set>
 #include <utility>
 
 #include "core/paths/dreyfus_wagner.h"
@@ -33,10 +35,11 @@ class LocalSteiner {
   // `region`: global vertices; `obstacle[i]`, `terminal[i]`, `port_mask[i]` per region vertex.
   // The minimum tree (its edges), or no tree when none costs less than `bound`. Every partial
   // tree of a tree cheaper than `bound` is itself cheaper (edge weights are positive), so the
-  // kernel's branch-and-bound leaves the answer unchanged.
+  // kernel's branch-and-bound leaves the answer unchanged. No tree either when the kernel's
+  // lower bound shows that none costs less than `target` (<= bound).
   Result<GroupSteinerTree> solve(std::span<const VertexId> region, const std::vector<std::uint8_t>& obstacle,
                                  const std::vector<std::uint8_t>& terminal, const std::vector<std::uint32_t>& port_mask,
-                                 std::size_t ports, double bound, const CancelToken& cancel) {
+                                 std::size_t ports, double bound, double target, const CancelToken& cancel) {
     const std::size_t n = region.size();
     for (std::size_t i = 0; i < n; ++i) local_of_[region[i].index()] = static_cast<std::int32_t>(i);
     // The region's edge graph: local heads, the mesh's half-edges.
@@ -62,7 +65,8 @@ class LocalSteiner {
                                              .obstacle = obstacle,
                                              .leaf_only = terminal,
                                              .root = VertexId(),
-                                             .bound = bound},
+                                             .bound = bound,
+                                             .target = target},
                          cancel);
   }
 
@@ -71,6 +75,41 @@ class LocalSteiner {
   std::vector<std::int32_t> local_of_;
   EdgeGraph local_;
   DreyfusWagner kernel_;
+};
+
+// A piece's search region: the vertices within `reach` of the cut parts, in search order.
+// It depends only on the cut (its vertices in order) and the reach, so a piece tried again
+// with the same cut (after a move elsewhere in the tree) takes the region found before
+// instead of searching again: the same vertices in the same order.
+class Regions {
+ public:
+  Regions(const EdgeGraph& graph, bool reuse) : search_(graph), reuse_(reuse) {}
+
+  struct Found {
+    const std::vector<VertexId>* region = nullptr;  // null: more than max_region vertices
+    bool searched = false;                          // false: known from an earlier search
+  };
+  Result<Found> find(const std::vector<VertexId>& sources, double reach, std::size_t max_region,
+                     const CancelToken& cancel) {
+    if (!reuse_) known_.clear();
+    auto [it, inserted] = known_.try_emplace(Key{std::bit_cast<std::uint64_t>(reach), sources});
+    if (!inserted) return Found{it->second ? &*it->second : nullptr, false};
+    search_.reset();
+    for (VertexId v : sources) search_.add_source(v);
+    if (auto st = search_.run_limited(reach, max_region + 1, cancel); !st.ok()) {
+      known_.erase(it);
+      return st.take_error();
+    }
+    const auto settled = search_.settled();
+    if (settled.size() <= max_region) it->second.emplace(settled.begin(), settled.end());
+    return Found{it->second ? &*it->second : nullptr, true};
+  }
+
+ private:
+  using Key = std::pair<std::uint64_t, std::vector<VertexId>>;
+  PathSearch search_;
+  bool reuse_;
+  std::map<Key, std::optional<std::vector<VertexId>>> known_;
 };
 
 // Pieces of the tree: every Steiner node, and every pair of adjacent Steiner nodes.
@@ -148,6 +187,30 @@ PieceCut cut_branches(const HalfedgeMesh& mesh, std::span<const double> edge_wei
       out.removed_length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[i]));
       out.removed_vertices.push_back(mesh.head(br.course[i]));
     }
+  }
+  return out;
+}
+
+struct PieceRegion {
+  PieceCut cut;
+  const std::vector<VertexId>* region = nullptr;  // null: too large at every reach tried
+};
+
+// Cuts the branches and takes the region around the cut parts; where the region would be too
+// large, cuts less (halving the reach, up to 4 times) so a piece costs a bounded amount of work.
+// Each cut stamps its removed edges with the next `stamp`.
+Result<PieceRegion> piece_region(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
+                                 const std::vector<Branch>& branches, double longest, const RefineOptions& options,
+                                 Regions& regions, std::vector<std::uint32_t>& removed_stamp, std::uint32_t& stamp,
+                                 RefineStats& st, const CancelToken& cancel) {
+  PieceRegion out;
+  double reach = options.reach * longest;
+  for (int attempt = 0; attempt < 5 && !out.region; ++attempt, reach *= 0.5) {
+    ++stamp;
+    out.cut = cut_branches(mesh, edge_weights, branches, reach, removed_stamp, stamp);
+    SEAM_TRY(const Regions::Found found, regions.find(out.cut.removed_vertices, reach, options.max_region, cancel));
+    st.region_searches += found.searched ? 1 : 0;
+    out.region = found.region;
   }
   return out;
 }
@@ -251,7 +314,7 @@ Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& grap
   const std::size_t nv = mesh.num_vertices();
   std::vector<std::uint8_t> is_terminal(nv, 0);
   for (VertexId t : terminals) is_terminal[t.index()] = 1;
-  PathSearch region_search(graph);
+  Regions regions(graph, options.shortcuts);
   LocalSteiner solver(mesh, graph);
   std::vector<std::uint32_t> removed_stamp(mesh.num_edges(), 0);
   std::uint32_t stamp = 0;
@@ -268,30 +331,25 @@ Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& grap
     while (index < pieces.size() && moves < 4 * pieces.size() + 8) {
       if (cancel.is_cancelled()) return cancelled_error("seam refinement");
       const auto [branches, longest] = branches_at(mesh, edge_weights, topo, pieces[index]);
-      // Cut the branches and take the region around the cut parts; where the region would be
-      // too large, cut less (halving the reach) so a piece costs a bounded amount of work.
-      PieceCut piece_cut;
-      bool region_ok = false;
-      double reach = options.reach * longest;
-      for (int attempt = 0; attempt < 5 && !region_ok; ++attempt, reach *= 0.5) {
-        ++stamp;
-        piece_cut = cut_branches(mesh, edge_weights, branches, reach, removed_stamp, stamp);
-        region_search.reset();
-        for (VertexId v : piece_cut.removed_vertices) region_search.add_source(v);
-        if (auto s = region_search.run_limited(reach, options.max_region + 1, cancel); !s.ok()) return s.take_error();
-        region_ok = region_search.settled().size() <= options.max_region;
-      }
       ++index;
       ++st.pieces_tried;
+      // The ports (one per branch not inside the piece) do not depend on the reach.
+      const auto outer = static_cast<std::size_t>(
+          std::count_if(branches.begin(), branches.end(), [](const Branch& br) { return !br.internal; }));
+      if (outer < 2 || outer > options.max_ports) continue;
+      SEAM_TRY(const PieceRegion piece, piece_region(mesh, edge_weights, branches, longest, options, regions,
+                                                     removed_stamp, stamp, st, cancel));
+      const PieceCut& piece_cut = piece.cut;
+      const std::vector<VertexId>* found = piece.region;
       const std::vector<VertexId>& ports = piece_cut.ports;
       const double removed_length = piece_cut.removed_length;
-      if (!region_ok || ports.size() < 2 || ports.size() > options.max_ports) continue;
+      if (!found) continue;
       // The rest of the tree falls into one subtree per port.
       std::vector<EdgeId> rest;
       for (EdgeId e : current) {
         if (removed_stamp[e.index()] != stamp) rest.push_back(e);
       }
-      const auto region = region_search.settled();
+      const std::span<const VertexId> region(*found);
       const LocalProblem problem = local_problem(mesh, rest, ports, region, is_terminal, in_rest);
       const auto& [obstacle, terminal, port_mask] = problem;
       // The same local problem (region, obstacles, ports, length to beat) that had no
@@ -303,9 +361,18 @@ Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& grap
       }
       work += region.size() << ports.size();
       if (work > options.max_work) break;
-      auto joined = solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, cancel);
+      ++st.pieces_solved;
+      st.solved_vertices += region.size();
+      // A move needs a tree cheaper than removed_length - slack. Where the kernel's lower bound
+      // shows that none is (with a margin far above the rounding of a sum of edge weights),
+      // the full solve would also have found nothing: the same piece is skipped, exactly.
+      const double slack = 1e-9 * (1.0 + removed_length);
+      const double target = options.shortcuts ? removed_length - slack + 1e-11 * (1.0 + removed_length)
+                                              : std::numeric_limits<double>::infinity();
+      auto joined = solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, target, cancel);
       if (!joined.ok()) return joined.take_error();
-      if (!(joined->cost < removed_length - 1e-9 * (1.0 + removed_length))) {
+      st.pieces_ruled_out += joined->target_ruled_out ? 1 : 0;
+      if (!(joined->cost < removed_length - slack)) {
         no_gain.insert(key);
         continue;
       }

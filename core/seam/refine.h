@@ -29,12 +29,22 @@ struct RefineOptions {
   /// How much of each branch at a piece is cut loose, as a fraction of the piece's longest
   /// branch; the search region is everything within that distance of the cut parts.
   double reach = 1.0;
+  /// Exact shortcuts, on by default; off only to check them against the plain run (tests):
+  /// a local problem whose lower bound (Dreyfus–Wagner's distance rows: the cheapest subtree
+  /// joining any three of its loose parts, every loose subtree passable) shows no tree
+  /// shorter than the removed piece is not solved further, and a region already searched for
+  /// the same cut and reach is reused. Neither changes the result.
+  bool shortcuts = true;
 };
 
 struct RefineStats {
   std::size_t pieces_tried = 0;
   std::size_t improvements = 0;
   std::size_t pieces_reused = 0;  ///< not solved again: the same local problem had no gain before
+  std::size_t region_searches = 0;  ///< searches for a piece's region (one per reach tried)
+  std::size_t pieces_solved = 0;    ///< local problems handed to Dreyfus–Wagner
+  std::size_t solved_vertices = 0;  ///< their regions' vertices, summed
+  std::size_t pieces_ruled_out = 0;  ///< of those, shown by the kernel's lower bound to have no gain
   double length_before = 0;
   double length_after = 0;
 };

@@ -160,3 +160,33 @@ TEST_CASE("the forced star-tree fallback: flagged, a full component, refined and
     CHECK(optimal->length <= after + 1e-9);
   }
 }
+
+TEST_CASE("refine_tree's shortcuts (lower-bound skips, reused regions) leave every result unchanged") {
+  // The plain run (shortcuts off) solves every local problem and searches every region: an
+  // independent oracle for the skips, which must give the same tree, move for move.
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(97);
+  std::size_t ruled_out = 0, saved_searches = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    const auto terminals = random_terminals(mesh, 4 + static_cast<std::size_t>(trial % 6), rng);
+    CAPTURE(trial);
+    const SkeletonResult skeleton = paper_skeleton(mesh, graph, terminals);
+    RefineOptions plain_options;
+    plain_options.shortcuts = false;
+    auto plain = refine_tree(mesh, graph, {}, terminals, skeleton.tree.edges, plain_options);
+    auto fast = refine_tree(mesh, graph, {}, terminals, skeleton.tree.edges);
+    REQUIRE(plain.ok());
+    REQUIRE(fast.ok());
+    CHECK(fast->edges == plain->edges);
+    CHECK(fast->stats.length_after == plain->stats.length_after);
+    CHECK(fast->stats.improvements == plain->stats.improvements);
+    CHECK(fast->stats.pieces_solved == plain->stats.pieces_solved);
+    CHECK(plain->stats.pieces_ruled_out == 0);
+    CHECK(fast->stats.region_searches <= plain->stats.region_searches);
+    ruled_out += fast->stats.pieces_ruled_out;
+    saved_searches += plain->stats.region_searches - fast->stats.region_searches;
+  }
+  CHECK(ruled_out > 0);
+  CHECK(saved_searches > 0);
+}
