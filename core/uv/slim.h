@@ -43,8 +43,8 @@ struct SlimTimings {
 struct SlimResult {
   std::vector<Vec2> uv;  ///< one UV per local vertex, at 3D scale; no triangle flipped
   int iterations = 0;    ///< global steps taken
-  int factorizations = 0;  ///< numeric factorizations of the proxy (one per step, plus a retry
-                           ///< with capped weights); contacts are solved with the step's factor
+  int factorizations = 0;  ///< numeric factorizations of the proxy: one per step, plus a retry
+                           ///< with capped weights, plus one per step whose contacts needed springs
   /// Area-weighted mean symmetric Dirichlet energy s1^2 + 1/s1^2 + s2^2 + 1/s2^2 (4 for an
   /// isometry) of the start after scaling, and of the result.
   double energy_start = 0;
@@ -81,7 +81,9 @@ struct SlimResult {
 /// that would cross itself stops at 90% of the contact, step after step). A contact-limited
 /// step re-minimises the proxy with the colliding vertex-edge pairs as linearised contacts,
 /// solved with the step's own factor (the vertices slide along the edges they touch), so it
-/// costs one factorization like any step; the step budget is the same with or without contacts
+/// costs one factorization like any step, or two where the contacts do not suffice (pairs that
+/// still collide, or more than a factorization's worth of solves: springs and one re-solve,
+/// as before issue 14); the step budget is the same with or without contacts
 /// (3x iterations from a Tutte start), and a contact-limited step ends the descent when the
 /// last 3 steps together gained less than 1.5x the tolerance (deterministic: counts, no clock).
 /// Errors: kInvalidArgument (initial.size() != patch vertices, options out of range),

@@ -256,7 +256,8 @@ TEST_CASE("a chart whose boundary keeps touching itself stops within the step bu
   CHECK(r->contact_solves > 0);
   const int budget = (r->tutte_start ? 3 : 1) * options.iterations;
   CHECK(r->iterations < budget);
-  // One factorization per step (plus at most one retry with capped weights): no re-solve.
+  // The contacts are solved with each step's factor: no spring re-solve on this chart (at
+  // most one retry with capped weights).
   CHECK(r->factorizations <= r->iterations + 1);
   CHECK(r->injective);
   CHECK(count_flipped(patch, r->uv) == 0);
