@@ -267,8 +267,7 @@ class ProxySystem {
   // point on the edge, along the normal n from the edge to the vertex).
   struct Contact {
     std::array<std::uint32_t, 3> v;
-    std::array<double, 3> coef;
-    Vec2 n;
+    std::array<Vec2, 3> w;  // the row: sum_k w[k] . d[v[k]] >= h
     double h = 0;
   };
 
@@ -304,9 +303,9 @@ class ProxySystem {
     Eigen::VectorXd violation(m);
     for (Eigen::Index i = 0; i < m; ++i) {
       const Contact& c = contacts[static_cast<std::size_t>(i)];
-      Vec2 rel = Vec2::Zero();
-      for (int k = 0; k < 3; ++k) rel += c.coef[k] * free[c.v[k]];
-      violation(i) = c.n.dot(rel) - c.h;
+      double rel = 0;
+      for (int k = 0; k < 3; ++k) rel += c.w[k].dot(free[c.v[k]]);
+      violation(i) = rel - c.h;
     }
     const Eigen::VectorXd lambda = active_multipliers(contact_schur(contacts), violation);
     if (!lambda.allFinite()) return {};
@@ -314,10 +313,10 @@ class ProxySystem {
     for (Eigen::Index j = 0; j < m; ++j) {
       const Contact& c = contacts[static_cast<std::size_t>(j)];
       if (block_ == 2) {
-        add_row(g, 0, c, lambda(j));
+        add_row(g, 0, c, lambda(j), 0);
       } else {
-        add_row(g, 0, c, lambda(j) * c.n.x());
-        add_row(g, 1, c, lambda(j) * c.n.y());
+        add_row(g, 0, c, lambda(j), 0);
+        add_row(g, 1, c, lambda(j), 1);
       }
     }
     const Eigen::MatrixXd y = solver_.solve(g);
@@ -337,51 +336,57 @@ class ProxySystem {
     return block_ == 2 ? m(unknown(v, c), 0) : m(unknown(v, 0), c);
   }
 
-  // Adds scale x (the contact's row) to column `col` of g: with 2x2 blocks n_x and n_y on the
-  // u and v unknowns, with the isotropic proxy the vertex combination E alone (vertex 0 is
-  // pinned: no unknown).
-  void add_row(Eigen::MatrixXd& g, Eigen::Index col, const Contact& c, double scale) const {
+  // Adds scale x (the contact's row) to column `col` of g: with 2x2 blocks w on the u and v
+  // unknowns; with the isotropic proxy (u and v in two columns of one system) component
+  // `comp` of w alone (vertex 0 is pinned: no unknown).
+  void add_row(Eigen::MatrixXd& g, Eigen::Index col, const Contact& c, double scale, int comp) const {
     for (int k = 0; k < 3; ++k) {
       if (c.v[k] == 0) continue;
       if (block_ == 2) {
-        for (int a = 0; a < 2; ++a) g(unknown(c.v[k], a), col) += scale * c.coef[k] * c.n[a];
+        for (int a = 0; a < 2; ++a) g(unknown(c.v[k], a), col) += scale * c.w[k][a];
       } else {
-        g(unknown(c.v[k], 0), col) += scale * c.coef[k];
+        g(unknown(c.v[k], 0), col) += scale * c.w[k][comp];
       }
     }
   }
 
-  // The row of contact c applied to column `col` of y (laid out like add_row's g).
-  double row_times(const Contact& c, const Eigen::MatrixXd& y, Eigen::Index col) const {
+  // The contact's row (component `comp` with the isotropic proxy) applied to column `col` of y.
+  double row_times(const Contact& c, const Eigen::MatrixXd& y, Eigen::Index col, int comp) const {
     double sum = 0;
     for (int k = 0; k < 3; ++k) {
       if (c.v[k] == 0) continue;
       if (block_ == 2) {
-        for (int a = 0; a < 2; ++a) sum += c.coef[k] * c.n[a] * y(unknown(c.v[k], a), col);
+        for (int a = 0; a < 2; ++a) sum += c.w[k][a] * y(unknown(c.v[k], a), col);
       } else {
-        sum += c.coef[k] * y(unknown(c.v[k], 0), col);
+        sum += c.w[k][comp] * y(unknown(c.v[k], 0), col);
       }
     }
     return sum;
   }
 
-  // S = G A^-1 G^T, solved in chunks of 4 right-hand sides (20 MB each at 1.25M faces). With
-  // the isotropic proxy a contact's row is n_x E on u and n_y E on v, so one solve with E
-  // serves both and S_ij = (n_i . n_j) E_i^T A^-1 E_j.
+  // S = G A^-1 G^T, solved in chunks of 4 contacts (8 right-hand sides, 40 MB at 1.25M faces).
+  // With the isotropic proxy a contact's row is G_u on u and G_v on v, so
+  // S_ij = G_u,i A^-1 G_u,j^T + G_v,i A^-1 G_v,j^T: two solves per contact.
   Eigen::MatrixXd contact_schur(const std::vector<Contact>& contacts) const {
     const auto m = static_cast<Eigen::Index>(contacts.size());
+    const int parts = block_ == 1 ? 2 : 1;
     Eigen::MatrixXd s(m, m);
     constexpr Eigen::Index kChunk = 4;
     for (Eigen::Index first = 0; first < m; first += kChunk) {
       const Eigen::Index count = std::min(kChunk, m - first);
-      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), count);
-      for (Eigen::Index j = 0; j < count; ++j) add_row(g, j, contacts[static_cast<std::size_t>(first + j)], 1.0);
+      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), parts * count);
+      for (Eigen::Index j = 0; j < count; ++j) {
+        for (int comp = 0; comp < parts; ++comp) {
+          add_row(g, parts * j + comp, contacts[static_cast<std::size_t>(first + j)], 1.0, comp);
+        }
+      }
       const Eigen::MatrixXd w = solver_.solve(g);
       for (Eigen::Index i = 0; i < m; ++i) {
         const Contact& ci = contacts[static_cast<std::size_t>(i)];
         for (Eigen::Index j = 0; j < count; ++j) {
-          const double e = row_times(ci, w, j);
-          s(i, first + j) = block_ == 1 ? e * ci.n.dot(contacts[static_cast<std::size_t>(first + j)].n) : e;
+          double e = 0;
+          for (int comp = 0; comp < parts; ++comp) e += row_times(ci, w, parts * j + comp, comp);
+          s(i, first + j) = e;
         }
       }
     }
@@ -529,22 +534,24 @@ struct HeldSearch {
   bool descended = false;
 };
 
-// The contact between boundary vertex c.vertex and edge (c.a, c.b) linearised at `uv`: the
-// vertex may slide along the edge but not approach it, and one within 2 gaps of it moves out.
+// The contact between boundary vertex c.vertex and edge (c.a, c.b) linearised at `uv` as the
+// collision test sees it (collision.h): the rate of cross(b - a, p - a) = |e| x the vertex's
+// distance from the edge's line, d/dt = cross(e, d_p - d_a) + cross(d_b - d_a, p - a), scaled
+// by 1/|e| and signed towards the vertex's side, must be at least h: a vertex within 2 gaps of
+// the line moves out to them, any other keeps at least a tenth of a gap per step clear of an
+// approach (so that no linearised pair collides at t = 0). The vertex may slide along the edge.
 ProxySystem::Contact linearised_contact(const std::vector<Vec2>& uv, const CollisionStep::Contact& c, double gap) {
   const Vec2 e = uv[c.b] - uv[c.a];
   const Vec2 q = uv[c.vertex] - uv[c.a];
-  const double len2 = e.squaredNorm();
-  const double s = len2 > 0 ? std::clamp(q.dot(e) / len2, 0.0, 1.0) : 0.0;
-  const Vec2 off = q - s * e;
-  const double dist = off.norm();
-  Vec2 n = Vec2(-e.y(), e.x()) / std::max(std::sqrt(len2), 1e-300);
-  if (dist > 1e-9 * std::sqrt(len2)) {
-    n = off / dist;
-  } else if (n.dot(q) < 0) {
-    n = -n;
-  }
-  return {.v = {c.vertex, c.a, c.b}, .coef = {1.0, -(1 - s), -s}, .n = n, .h = std::max(0.0, 2 * gap - dist)};
+  const double len = std::max(e.norm(), 1e-300);
+  const double cross0 = e.x() * q.y() - e.y() * q.x();
+  const double side = cross0 >= 0 ? 1.0 : -1.0;
+  const Vec2 e_perp = Vec2(-e.y(), e.x()) * (side / len);  // cross(e, d) = e_perp . d
+  const Vec2 q_perp = Vec2(q.y(), -q.x()) * (side / len);  // cross(d, q) = q_perp . d
+  const double dist = std::abs(cross0) / len;
+  return {.v = {c.vertex, c.a, c.b},
+          .w = {e_perp, Vec2(-(e_perp + q_perp)), q_perp},
+          .h = std::max(2 * gap - dist, 0.1 * gap)};
 }
 
 // What contact_search keeps between its rounds.
