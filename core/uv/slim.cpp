@@ -364,14 +364,14 @@ class ProxySystem {
     return sum;
   }
 
-  // S = G A^-1 G^T, solved in chunks of 4 contacts (8 right-hand sides, 40 MB at 1.25M faces).
+  // S = G A^-1 G^T, solved in chunks of 2 contacts (4 right-hand sides, 20 MB at 1.25M faces).
   // With the isotropic proxy a contact's row is G_u on u and G_v on v, so
   // S_ij = G_u,i A^-1 G_u,j^T + G_v,i A^-1 G_v,j^T: two solves per contact.
   Eigen::MatrixXd contact_schur(const std::vector<Contact>& contacts) const {
     const auto m = static_cast<Eigen::Index>(contacts.size());
     const int parts = block_ == 1 ? 2 : 1;
     Eigen::MatrixXd s(m, m);
-    constexpr Eigen::Index kChunk = 4;
+    constexpr Eigen::Index kChunk = 2;
     for (Eigen::Index first = 0; first < m; first += kChunk) {
       const Eigen::Index count = std::min(kChunk, m - first);
       Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), parts * count);
