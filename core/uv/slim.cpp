@@ -312,12 +312,8 @@ class ProxySystem {
     Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), rhs_.cols());
     for (Eigen::Index j = 0; j < m; ++j) {
       const Contact& c = contacts[static_cast<std::size_t>(j)];
-      if (block_ == 2) {
-        add_row(g, 0, c, lambda(j), 0);
-      } else {
-        add_row(g, 0, c, lambda(j), 0);
-        add_row(g, 1, c, lambda(j), 1);
-      }
+      add_row(g, 0, c, lambda(j), 0);
+      if (block_ == 1) add_row(g, 1, c, lambda(j), 1);  // the isotropic proxy's v column
     }
     const Eigen::MatrixXd y = solver_.solve(g);
     if (!y.allFinite()) return {};
@@ -560,7 +556,6 @@ struct ContactRound {
   std::vector<Vec2> held;   // the step with the contacts and held vertices
   std::vector<char> pinned; // vertices held still
   std::vector<ProxySystem::Contact> contacts;
-  std::vector<std::array<std::uint32_t, 3>> keys;  // their (vertex, a, b)
   int budget = 0;           // solves one factorization is worth
   int spent = 0;            // solves so far
   bool refactored = false;  // springs added and the proxy factored again (once per step)
@@ -583,9 +578,9 @@ void add_contacts(Descent& d, CollisionStep& collision, ContactRound& state) {
   std::vector<std::uint32_t> spring;
   for (const CollisionStep::Contact& c : collision.contacts) {
     const std::array<std::uint32_t, 3> key = {c.vertex, c.a, c.b};
-    const bool known = std::find(state.keys.begin(), state.keys.end(), key) != state.keys.end();
+    const bool known = std::any_of(state.contacts.begin(), state.contacts.end(),
+                                   [&](const ProxySystem::Contact& k) { return k.v == key; });
     if (!known && state.spent + static_cast<int>(state.contacts.size()) + 2 <= state.budget) {
-      state.keys.push_back(key);
       state.contacts.push_back(linearised_contact(uv, c, d.gap));
       added = true;
       continue;
