@@ -1,6 +1,7 @@
-// The shared sparse Cholesky (CHOLMOD supernodal): solves SPD systems to round-off, reports
-// non-SPD input through info(), reuses a symbolic analysis, orders by nested dissection on
-// request (less fill on a grid), and keeps BLAS single-threaded.
+// The shared sparse Cholesky (CHOLMOD, simplicial or supernodal by flops per entry of L):
+// solves SPD systems to round-off with either kind, reports non-SPD input through info() with
+// either kind, reuses a symbolic analysis, orders by nested dissection on request (less fill on
+// a grid) from a size on, and keeps BLAS and CHOLMOD's OpenMP loops single-threaded.
 #include <doctest/doctest.h>
 
 #include <dlfcn.h>
@@ -28,6 +29,24 @@ Eigen::SparseMatrix<double> laplacian_1d(int n, double shift) {
   return a;
 }
 
+// The 5-point Laplacian of an m x m grid (or 7-point of an m x m x m one) plus `shift` on the
+// diagonal: a 2D mesh's structure, or a 3D one's, whose factor does many flops per entry.
+Eigen::SparseMatrix<double> grid_laplacian(int m, int dims, double shift) {
+  const int n = dims == 2 ? m * m : m * m * m;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int v = 0; v < n; ++v) {
+    t.emplace_back(v, v, 2.0 * dims + shift);
+    for (int stride = 1, d = 0; d < dims; ++d, stride *= m) {
+      if ((v / stride) % m + 1 >= m) continue;
+      t.emplace_back(v + stride, v, -1.0);
+      t.emplace_back(v, v + stride, -1.0);
+    }
+  }
+  Eigen::SparseMatrix<double> a(n, n);
+  a.setFromTriplets(t.begin(), t.end());
+  return a;
+}
+
 }  // namespace
 
 TEST_CASE("CHOLMOD solves an SPD system to round-off and refactors with a reused analysis") {
@@ -48,36 +67,52 @@ TEST_CASE("CHOLMOD solves an SPD system to round-off and refactors with a reused
 }
 
 TEST_CASE("nested dissection orders a grid Laplacian with less fill and solves it to round-off") {
-  // The 5-point Laplacian of an m x m grid (plus a small shift): the 2D structure where
-  // nested dissection beats minimum degree.
+  // The 2D grid is where nested dissection beats minimum degree.
   const int m = 60;
-  std::vector<Eigen::Triplet<double>> t;
-  for (int j = 0; j < m; ++j) {
-    for (int i = 0; i < m; ++i) {
-      const int v = j * m + i;
-      t.emplace_back(v, v, 4.01);
-      for (int w : {i + 1 < m ? v + 1 : -1, j + 1 < m ? v + m : -1}) {
-        if (w < 0) continue;
-        t.emplace_back(w, v, -1.0);
-        t.emplace_back(v, w, -1.0);
-      }
-    }
-  }
-  Eigen::SparseMatrix<double> a(m * m, m * m);
-  a.setFromTriplets(t.begin(), t.end());
+  const Eigen::SparseMatrix<double> a = grid_laplacian(m, 2, 0.01);
   const Eigen::VectorXd x_true = Eigen::VectorXd::LinSpaced(m * m, -2.0, 5.0);
   SparseCholesky by_default;
   by_default.compute(a);
   SparseCholesky nested;
-  nested.prefer_nested_dissection();
+  nested.prefer_nested_dissection(0);
   nested.compute(a);
+  SparseCholesky below_size;  // the default size bound: 3600 unknowns keep AMD
+  below_size.prefer_nested_dissection();
+  below_size.compute(a);
   REQUIRE(by_default.info() == Eigen::Success);
   REQUIRE(nested.info() == Eigen::Success);
+  REQUIRE(below_size.info() == Eigen::Success);
   CHECK(nested.cholmod().method[nested.cholmod().selected].ordering == CHOLMOD_METIS);
   CHECK(by_default.cholmod().method[by_default.cholmod().selected].ordering != CHOLMOD_METIS);
+  CHECK(below_size.cholmod().method[below_size.cholmod().selected].ordering != CHOLMOD_METIS);
   CHECK(nested.cholmod().lnz < by_default.cholmod().lnz);
   const Eigen::VectorXd x = nested.solve(a * x_true);
   CHECK((x - x_true).norm() / x_true.norm() < 1e-10);
+}
+
+TEST_CASE("the factor is simplicial for a mesh-like system and supernodal where flops per entry are high") {
+  // A 2D grid of 3600 unknowns: few flops per entry of L (a small mesh's Laplacian).
+  const Eigen::SparseMatrix<double> flat = grid_laplacian(60, 2, 0.01);
+  // A 3D grid of 27k unknowns: large separators, dense supernodes.
+  const Eigen::SparseMatrix<double> solid = grid_laplacian(30, 3, 0.01);
+  for (const Eigen::SparseMatrix<double>* a : {&flat, &solid}) {
+    SparseCholesky solver(*a);
+    REQUIRE(solver.info() == Eigen::Success);
+    const double flops_per_entry = solver.cholmod().fl / solver.cholmod().lnz;
+    CAPTURE(flops_per_entry);
+    CHECK(solver.supernodal() == (flops_per_entry >= SparseCholesky::kSupernodalSwitch));
+    CHECK(solver.supernodal() == (a == &solid));
+    const Eigen::VectorXd x_true = Eigen::VectorXd::LinSpaced(a->rows(), 1.0, -4.0);
+    const Eigen::VectorXd x = solver.solve(*a * x_true);
+    CHECK((x - x_true).norm() / x_true.norm() < 1e-10);
+    // Indefinite values on the same pattern are reported by either kind.
+    Eigen::SparseMatrix<double> indefinite = *a;
+    indefinite.coeffRef(a->rows() / 2, a->rows() / 2) = -1.0;
+    solver.factorize(indefinite);
+    CHECK(solver.info() != Eigen::Success);
+    solver.factorize(*a);
+    CHECK(solver.info() == Eigen::Success);
+  }
 }
 
 TEST_CASE("an indefinite matrix is reported, not solved") {
@@ -85,12 +120,18 @@ TEST_CASE("an indefinite matrix is reported, not solved") {
   CHECK(solver.info() != Eigen::Success);
 }
 
-TEST_CASE("OpenBLAS, when it is the BLAS, runs single-threaded") {
+TEST_CASE("OpenBLAS, when it is the BLAS, and CHOLMOD's OpenMP loops run single-threaded") {
   SparseCholesky solver(laplacian_1d(10, 0.0));
   using GetThreads = int (*)();
   if (auto* get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))) {
     CHECK(get() == 1);
   } else {
     MESSAGE("the BLAS is not OpenBLAS: nothing to limit");
+  }
+  using GetLevels = int (*)();
+  if (auto* get = reinterpret_cast<GetLevels>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"))) {
+    CHECK(get() == 0);
+  } else {
+    MESSAGE("CHOLMOD is built without OpenMP: nothing to limit");
   }
 }
