@@ -139,6 +139,156 @@ Grid build_grid(const std::vector<Box>& boxes, const std::vector<char>& live) {
   return g;
 }
 
+// Whether closed segments pq and rs share a point (exact).
+bool segments_meet(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
+  const int o1 = orient2d(p, q, r);
+  const int o2 = orient2d(p, q, s);
+  const int o3 = orient2d(r, s, p);
+  const int o4 = orient2d(r, s, q);
+  if (o1 * o2 > 0 || o3 * o4 > 0) return false;
+  if (o1 != 0 || o2 != 0) return true;
+  // Collinear: they meet iff their bounding boxes do (exact comparisons).
+  return std::max(std::min(p.x(), q.x()), std::min(r.x(), s.x())) <= std::min(std::max(p.x(), q.x()), std::max(r.x(), s.x())) &&
+         std::max(std::min(p.y(), q.y()), std::min(r.y(), s.y())) <= std::min(std::max(p.y(), q.y()), std::max(r.y(), s.y()));
+}
+
+// The boundary of a consistently oriented triangle set: per vertex, the target of its one
+// boundary edge (a directed edge whose reverse is no triangle's), or kNone. Empty when the set
+// is not such a surface: a directed edge used twice, or a vertex on two boundary edges out or
+// in (a pinch).
+constexpr std::uint32_t kNone = UINT32_MAX;
+std::vector<std::uint32_t> boundary_successors(std::size_t nv, std::span<const Triangle> triangles) {
+  std::vector<std::uint32_t> offset(nv + 1, 0);
+  for (const Triangle& t : triangles) {
+    for (int k = 0; k < 3; ++k) ++offset[t[k] + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) offset[v + 1] += offset[v];
+  std::vector<std::uint32_t> out(offset[nv]);
+  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+  for (const Triangle& t : triangles) {
+    for (int k = 0; k < 3; ++k) out[fill[t[k]]++] = t[(k + 1) % 3];
+  }
+  auto has_edge = [&](std::uint32_t a, std::uint32_t b) {
+    return std::find(out.begin() + offset[a], out.begin() + offset[a + 1], b) != out.begin() + offset[a + 1];
+  };
+  std::vector<std::uint32_t> next(nv, kNone);
+  std::vector<char> has_in(nv, 0);
+  for (std::uint32_t a = 0; a < nv; ++a) {
+    for (std::uint32_t i = offset[a]; i < offset[a + 1]; ++i) {
+      const std::uint32_t b = out[i];
+      if (std::find(out.begin() + i + 1, out.begin() + offset[a + 1], b) != out.begin() + offset[a + 1]) return {};
+      if (has_edge(b, a)) continue;
+      if (next[a] != kNone || has_in[b]) return {};
+      next[a] = b;
+      has_in[b] = 1;
+    }
+  }
+  return next;
+}
+
+// Exact test: the boundary loops (given by `next`) are simple, pairwise disjoint (no two
+// segments share a point except consecutive ones at their common vertex), all turn the way
+// `turn` says (+1 counter-clockwise, -1 clockwise), and none lies inside another.
+// Conservative: false also when checking would cost more than `budget` segment tests.
+bool boundary_loops_disjoint(std::span<const Vec2> uv, const std::vector<std::uint32_t>& next, int turn,
+                             std::size_t budget) {
+  std::vector<std::uint32_t> starts;  // one segment per boundary vertex, named by its start
+  for (std::uint32_t v = 0; v < next.size(); ++v) {
+    if (next[v] != kNone) starts.push_back(v);
+  }
+  std::vector<Box> boxes(starts.size());
+  for (std::size_t i = 0; i < starts.size(); ++i) {
+    const Vec2& p = uv[starts[i]];
+    const Vec2& q = uv[next[starts[i]]];
+    boxes[i] = {p.cwiseMin(q), p.cwiseMax(q)};
+  }
+  const Grid g = build_grid(boxes, std::vector<char>(boxes.size(), 1));
+  std::size_t tests = 0;
+  for (std::size_t c = 0; c + 1 < g.offset.size(); ++c) {
+    const std::int64_t cx = static_cast<std::int64_t>(c) % g.nx;
+    const std::int64_t cy = static_cast<std::int64_t>(c) / g.nx;
+    for (std::uint32_t i = g.offset[c]; i < g.offset[c + 1]; ++i) {
+      for (std::uint32_t j = i + 1; j < g.offset[c + 1]; ++j) {
+        const std::uint32_t a = g.items[i];
+        const std::uint32_t b = g.items[j];
+        const Vec2 lo = boxes[a].lo.cwiseMax(boxes[b].lo);
+        const Vec2 hi = boxes[a].hi.cwiseMin(boxes[b].hi);
+        if (!(lo.x() <= hi.x() && lo.y() <= hi.y())) continue;
+        if (g.cx(lo.x()) != cx || g.cy(lo.y()) != cy) continue;  // tested in another cell
+        if (++tests > budget) return false;
+        const std::uint32_t sa = starts[a];
+        const std::uint32_t sb = starts[b];
+        if (next[sa] == sb || next[sb] == sa) {
+          // Consecutive: they share one vertex and must not fold back along each other.
+          const std::uint32_t first = next[sa] == sb ? sa : sb;
+          const Vec2& p = uv[first];
+          const Vec2& m = uv[next[first]];
+          const Vec2& r = uv[next[next[first]]];
+          if (next[next[first]] == first) return false;  // a two-segment loop cannot bound area
+          if (orient2d(p, m, r) != 0) continue;
+          const bool opposite = p.x() != m.x() ? (p.x() < m.x()) == (m.x() < r.x()) : (p.y() < m.y()) == (m.y() < r.y());
+          if (!opposite) return false;
+          continue;
+        }
+        if (segments_meet(uv[sa], uv[next[sa]], uv[sb], uv[next[sb]])) return false;
+      }
+    }
+  }
+  // The loops are simple and disjoint. Each must turn as its triangles do (the orientation at
+  // its lowest-leftmost vertex is the loop's) and hold no other loop's vertex.
+  std::vector<std::uint32_t> loop_of(next.size(), kNone);
+  std::vector<std::uint32_t> heads;
+  std::vector<Box> loop_box;
+  for (std::uint32_t v : starts) {
+    if (loop_of[v] != kNone) continue;
+    const auto id = static_cast<std::uint32_t>(heads.size());
+    std::uint32_t lowest = v;
+    Box box{uv[v], uv[v]};
+    for (std::uint32_t w = v; loop_of[w] == kNone; w = next[w]) {
+      loop_of[w] = id;
+      box = {box.lo.cwiseMin(uv[w]), box.hi.cwiseMax(uv[w])};
+      const Vec2& a = uv[w];
+      const Vec2& b = uv[lowest];
+      if (a.x() < b.x() || (a.x() == b.x() && a.y() < b.y())) lowest = w;
+    }
+    std::uint32_t prev = lowest;
+    while (next[prev] != lowest) prev = next[prev];
+    if (orient2d(uv[prev], uv[lowest], uv[next[lowest]]) != turn) return false;
+    heads.push_back(v);
+    loop_box.push_back(box);
+  }
+  for (std::size_t i = 0; i < heads.size(); ++i) {
+    const Vec2& p = uv[heads[i]];
+    for (std::size_t j = 0; j < heads.size(); ++j) {
+      const Box& b = loop_box[j];
+      if (i == j || p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) continue;
+      int winding = 0;
+      std::uint32_t w = heads[j];
+      do {
+        if ((tests += 1) > budget) return false;
+        const Vec2& u = uv[w];
+        const Vec2& x = uv[next[w]];
+        if (u.y() <= p.y() && x.y() > p.y() && orient2d(u, x, p) > 0) ++winding;
+        if (x.y() <= p.y() && u.y() > p.y() && orient2d(u, x, p) < 0) --winding;
+        w = next[w];
+      } while (w != heads[j]);
+      if (winding != 0) return false;
+    }
+  }
+  return true;
+}
+
+// Exact proof that a layout has no overlap, without testing triangle pairs: every triangle
+// turns the same way (`turn`) and the set is a consistently oriented surface whose boundary
+// loops are simple, disjoint, turn that way too and are not nested. Then the number of
+// triangles covering a point off the edges is |the winding number of the boundary chain around
+// it| (one per loop holding it: at most 1), so no two interiors meet. False: not proven.
+bool injective_by_boundary(std::span<const Vec2> uv, std::span<const Triangle> triangles, int turn) {
+  const std::vector<std::uint32_t> next = boundary_successors(uv.size(), triangles);
+  if (next.empty()) return false;
+  return boundary_loops_disjoint(uv, next, turn, 4 * triangles.size() + 64);
+}
+
 }  // namespace
 
 bool triangle_interiors_intersect(const Tri& a, const Tri& b) {
@@ -174,6 +324,7 @@ Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Tr
   std::vector<Box> boxes(nf);
   std::vector<char> live(nf, 0);
   OverlapResult result;
+  int turn = 0;  // +1 / -1 while every triangle so far turns that way; 2 once they differ
   for (std::size_t t = 0; t < nf; ++t) {
     Tri raw;
     for (int k = 0; k < 3; ++k) {
@@ -187,8 +338,11 @@ Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Tr
     }
     if (!counter_clockwise(raw, tri[t])) {
       ++result.degenerate_triangles;
+      turn = 2;
       continue;
     }
+    const int own = tri[t][1] == raw[1] ? 1 : -1;
+    if (turn != own) turn = turn == 0 ? own : 2;
     live[t] = 1;
     boxes[t] = {raw[0].cwiseMin(raw[1]).cwiseMin(raw[2]), raw[0].cwiseMax(raw[1]).cwiseMax(raw[2])};
     const Vec2 e1 = tri[t][1] - tri[t][0];
@@ -196,6 +350,12 @@ Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Tr
     result.uv_area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
   }
 
+  if (cancel.is_cancelled()) return cancelled_error("find_overlaps");
+  if ((turn == 1 || turn == -1) && injective_by_boundary(uv, triangles, turn)) {
+    result.proven_by_boundary = true;
+    result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
   const Grid g = build_grid(boxes, live);
   std::uint32_t poll = 0;
   for (std::size_t c = 0; c + 1 < g.offset.size(); ++c) {

@@ -27,7 +27,10 @@ struct OverlapResult {
   /// overlap_area / uv_area (0 when uv_area is 0).
   double overlap_fraction = 0;
   std::size_t overlapping_pairs = 0;  ///< triangle pairs with a common interior point
-  std::size_t candidate_pairs = 0;    ///< pairs whose bounding boxes meet (tested exactly)
+  std::size_t candidate_pairs = 0;    ///< pairs whose bounding boxes meet (tested exactly; 0 when
+                                      ///< proven_by_boundary)
+  /// No pair was tested: the boundary alone proved the layout free of overlap (see find_overlaps).
+  bool proven_by_boundary = false;
   std::size_t degenerate_triangles = 0;  ///< zero UV area: no interior, never overlapping
   /// The first overlapping pair in (lower, higher) triangle index order; both
   /// kInvalidValue-like (UINT32_MAX) when none.
@@ -43,6 +46,12 @@ struct OverlapResult {
 /// difference argument), and that test runs on the exact orient2d. Candidate pairs come from a
 /// uniform grid over the layout (about one triangle per cell); each pair is tested once, in the
 /// cell holding the lower-left corner of the intersection of their bounding boxes.
+/// First, a shortcut that is exact as well: when every triangle turns the same way, no
+/// directed edge is used twice, and the boundary edges (those whose reverse no triangle uses)
+/// form simple, pairwise disjoint loops turning that way too, none of which holds another, the
+/// number of triangles over any point is the winding number of those loops (at most 1), so
+/// nothing overlaps and no pair is tested (proven_by_boundary): O(F) plus a grid over the B
+/// boundary segments. Anything else (a touch, a pinch, a flipped triangle) takes the pair test.
 /// `triangle_chart` (optional, empty or one id per triangle) splits overlap_area into
 /// within- and between-chart parts; empty means one chart.
 /// Errors: kIndexOutOfRange (a triangle names a missing UV; the message names it),

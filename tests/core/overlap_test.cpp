@@ -110,9 +110,25 @@ TEST_CASE("a strip bent through less than a full turn has no overlap, past it th
   CHECK_FALSE(open.overlaps);
   CHECK(open.overlap_area == 0);
   CHECK(open.overlapping_pairs == 0);
-  CHECK(open.candidate_pairs > 0);
+  CHECK(open.proven_by_boundary);  // a disc with a simple boundary (clockwise, as its triangles)
+  CHECK(open.candidate_pairs == 0);
   // Exactly a full turn: the ends touch along a radial edge and nothing more.
   CHECK_FALSE(overlaps_of(bent_strip(60, 2 * std::numbers::pi)).overlaps);
+  // Two unit squares as separate charts sharing the edge x = 1 (distinct vertices, equal
+  // coordinates): the boundaries touch, so the proof defers and the pairs decide: no overlap.
+  Layout squares;
+  squares.uv = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1), Vec2(1, 0), Vec2(2, 0), Vec2(2, 1), Vec2(1, 1)};
+  squares.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+  const OverlapResult touching = overlaps_of(squares);
+  CHECK_FALSE(touching.overlaps);
+  CHECK_FALSE(touching.proven_by_boundary);
+  CHECK(touching.candidate_pairs > 0);
+  squares.uv[4].x() = squares.uv[7].x() = 1.25;  // apart: proven without pairs
+  CHECK(overlaps_of(squares).proven_by_boundary);
+  squares.uv[4].x() = squares.uv[7].x() = 0.75;  // overlapping by a quarter of a square
+  const OverlapResult over = overlaps_of(squares);
+  CHECK_FALSE(over.proven_by_boundary);
+  CHECK(over.overlap_area == doctest::Approx(0.25));
 
   const Layout bent = bent_strip(80, 2.5 * std::numbers::pi);
   const OverlapResult r = overlaps_of(bent);
@@ -210,4 +226,71 @@ TEST_CASE("malformed layouts are typed errors") {
   auto empty = find_overlaps(std::span<const Vec2>{}, std::span<const Triangle>{});
   REQUIRE(empty.ok());
   CHECK_FALSE(empty->overlaps);
+}
+
+TEST_CASE("the boundary proof of no overlap agrees with testing every pair, and defers on touches, nesting and flips") {
+  // Layouts of 1-3 charts: bent strips (some past a full turn), discs placed apart, touching,
+  // overlapping or nested, with jitter and the odd flipped triangle. The oracle tests every
+  // pair of triangles exactly.
+  const HalfedgeMesh disc = fx::build_fixture(fx::disc(4, 12));
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int proven = 0;
+  int deferred = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    Layout l;
+    const int charts = 1 + trial % 3;
+    for (int c = 0; c < charts; ++c) {
+      const auto base = static_cast<std::uint32_t>(l.uv.size());
+      Layout part;
+      if ((trial + c) % 2 == 0) {
+        part = bent_strip(12 + trial % 7, (1.2 + 1.3 * unit(rng)) * std::numbers::pi);
+      } else {
+        for (const Vec3& p : disc.positions()) part.uv.emplace_back(p.x(), p.y());
+        part.triangles = disc.triangles();
+      }
+      const double scale = c == 0 ? 1.0 : 0.2 + unit(rng);
+      const Vec2 offset(c == 0 ? 0.0 : 6.0 * unit(rng) - 3.0, c == 0 ? 0.0 : 6.0 * unit(rng) - 3.0);
+      for (Vec2& p : part.uv) p = scale * p + offset + Vec2(0.01 * unit(rng), 0.01 * unit(rng)) * (trial % 4 == 0);
+      if (trial % 9 == 0) std::swap(part.triangles[0][1], part.triangles[0][2]);  // one flipped triangle
+      for (const Vec2& p : part.uv) l.uv.push_back(p);
+      for (const Triangle& t : part.triangles) l.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    }
+    bool any = false;
+    for (std::size_t a = 0; a < l.triangles.size() && !any; ++a) {
+      for (std::size_t b = a + 1; b < l.triangles.size() && !any; ++b) {
+        const std::array<Vec2, 3> ta{l.uv[l.triangles[a][0]], l.uv[l.triangles[a][1]], l.uv[l.triangles[a][2]]};
+        const std::array<Vec2, 3> tb{l.uv[l.triangles[b][0]], l.uv[l.triangles[b][1]], l.uv[l.triangles[b][2]]};
+        any = triangle_interiors_intersect(ta, tb);
+      }
+    }
+    const OverlapResult r = overlaps_of(l);
+    CAPTURE(trial);
+    CHECK(r.overlaps == any);
+    if (r.proven_by_boundary) {
+      CHECK_FALSE(any);
+      CHECK(r.overlap_area == 0);
+      ++proven;
+    } else {
+      ++deferred;
+    }
+  }
+  // Both paths were taken often enough to mean something.
+  CHECK(proven >= 30);
+  CHECK(deferred >= 30);
+}
+
+TEST_CASE("a chart inside another, both counter-clockwise and disjoint in outline, is found by the pair test") {
+  const HalfedgeMesh disc = fx::build_fixture(fx::disc(4, 12));
+  Layout l;
+  for (double scale : {1.0, 0.3}) {
+    const auto base = static_cast<std::uint32_t>(l.uv.size());
+    for (const Vec3& p : disc.positions()) l.uv.emplace_back(scale * p.x() + 0.01, scale * p.y() + 0.02);
+    for (const Triangle& t : disc.triangles()) l.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+  }
+  const OverlapResult r = overlaps_of(l);
+  CHECK_FALSE(r.proven_by_boundary);
+  CHECK(r.overlaps);
+  // The small disc's area (0.3^2 of the big one's) is covered twice.
+  CHECK(r.overlap_area == doctest::Approx(r.uv_area * 0.09 / 1.09).epsilon(1e-9));
 }
