@@ -166,20 +166,37 @@ void scale_to_surface_area(const DiscPatch& patch, const std::vector<TriangleOpe
 // SLIM's proxy weights for the symmetric Dirichlet energy (the paper's Table 1, after its
 // Eq. 6): w_i^2 = (s_i - s_i^-3) / (s_i - 1) = (s_i + 1)(s_i^2 + 1) / s_i^3, with the 2x2 SVD
 // J = Rot(phi) diag(s1, s2) Rot(theta) in closed form. Returns M = W^T W = U diag(w^2) U^T
-// and the closest rotation R = U V^T. Weights are capped at `cap`.
+// and the closest rotation R = U V^T. Weights are capped at `cap`. No trigonometry: with
+// J = Q + R split as in svd_2x2 (rotation-scale (e, h), reflection-scale (f, g)), R's angle
+// is that of (e, h) and 2 phi is the sum of the angles of (e, h) and (f, g), so their
+// cosines and sines are the normalised vectors (the assembly's cost was mostly atan2/sincos).
 void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eigen::Matrix2d& r) {
-  const Svd2 svd = svd_2x2(j);
-  const double s1 = svd.s1;
-  const double s2 = std::max(svd.s2, 1e-12);  // positive: the line search keeps det > 0
-  const double phi = svd.u_angle;
-  const double rotation = svd.u_angle + svd.v_angle;
+  const double e = 0.5 * (j(0, 0) + j(1, 1));
+  const double f = 0.5 * (j(0, 0) - j(1, 1));
+  const double g = 0.5 * (j(1, 0) + j(0, 1));
+  const double h = 0.5 * (j(1, 0) - j(0, 1));
+  const double q = std::hypot(e, h);  // hypot: squeezed limbs reach 1e-170, whose squares underflow
+  const double reflection = std::hypot(f, g);
+  const double s1 = q + reflection;
+  const double s2 = std::max(q - reflection, 1e-12);  // positive: the line search keeps det > 0
   auto weight2 = [cap](double s) { return std::min((s + 1) * (s * s + 1) / (s * s * s), cap); };
   const double w1 = weight2(s1);
   const double w2 = weight2(s2);
-  const double c = std::cos(phi);
-  const double s = std::sin(phi);
+  // (cos, sin) of the rotation's angle and of the reflection's (0 when J is conformal).
+  const double c2 = q > 0 ? e / q : 1.0;
+  const double s2a = q > 0 ? h / q : 0.0;
+  const double c1 = reflection > 0 ? f / reflection : 1.0;
+  const double s1a = reflection > 0 ? g / reflection : 0.0;
+  const double cos_2phi = c1 * c2 - s1a * s2a;
+  const double sin_2phi = s1a * c2 + c1 * s2a;
+  // (cos phi, sin phi) by the half angle, from the side where nothing cancels: the weights can
+  // differ by 20 orders of magnitude, so M = c^2 w1 + s^2 w2 ... needs s^2 to relative accuracy.
+  Vec2 half = cos_2phi >= 0 ? Vec2(1 + cos_2phi, sin_2phi) : Vec2(sin_2phi, 1 - cos_2phi);
+  half /= half.norm();
+  const double c = half.x();
+  const double s = half.y();
   m << c * c * w1 + s * s * w2, c * s * (w1 - w2), c * s * (w1 - w2), s * s * w1 + c * c * w2;
-  r << std::cos(rotation), -std::sin(rotation), std::sin(rotation), std::cos(rotation);
+  r << c2, -s2a, s2a, c2;
 }
 
 // SLIM's reweighted proxy as a sparse system over the free unknowns (vertex 0 is pinned: the
