@@ -1,7 +1,15 @@
 #include "core/paths/dreyfus_wagner.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
+#include <cstdlib>
+#include <memory>
+#include <new>
+
+#if __has_include(<sys/mman.h>)
+#include <sys/mman.h>
+#endif
 
 namespace seam::core {
 
@@ -15,6 +23,35 @@ bool singleton(std::uint32_t s) { return (s & (s - 1)) == 0; }
 
 }  // namespace
 
+namespace {
+constexpr std::size_t kLargePage = std::size_t{2} << 20;
+}  // namespace
+
+template <class T>
+T* DreyfusWagner::LargePages<T>::allocate(std::size_t count) {
+  const std::size_t bytes = count * sizeof(T);
+  if (bytes < 2 * kLargePage) return std::allocator<T>().allocate(count);
+  const std::size_t rounded = (bytes + kLargePage - 1) / kLargePage * kLargePage;
+  void* p = std::aligned_alloc(kLargePage, rounded);
+  if (p == nullptr) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  (void)madvise(p, rounded, MADV_HUGEPAGE);  // advice only: without it the pages are small
+#endif
+  return static_cast<T*>(p);
+}
+
+template <class T>
+void DreyfusWagner::LargePages<T>::deallocate(T* p, std::size_t count) {
+  if (count * sizeof(T) < 2 * kLargePage) {
+    std::allocator<T>().deallocate(p, count);
+    return;
+  }
+  std::free(p);
+}
+
+template struct DreyfusWagner::LargePages<double>;
+template struct DreyfusWagner::LargePages<std::uint32_t>;
+
 void DreyfusWagner::Rows::reset(std::size_t rows, std::size_t n) {
   for (std::size_t r = 0; r < finite.size(); ++r) {
     for (std::uint32_t v : finite[r]) {
@@ -23,20 +60,53 @@ void DreyfusWagner::Rows::reset(std::size_t rows, std::size_t n) {
     }
     finite[r].clear();
   }
-  if (rows * n > value.size()) {
-    value.resize(rows * n, kInf);
-    back.resize(rows * n, kNone);
+  if (rows * n > value.size()) {  // every entry is kInf / kNone here: nothing to copy
+    value.assign(rows * n, kInf);
+    back.assign(rows * n, kNone);
   }
   finite.resize(rows);
   stride = n;
 }
 
+// A lower bound on the rest of any tree through v (the goal-oriented bounds of Hougardy,
+// Silvanus and Vygen 2017): the rest is a tree joining v to every lower row still to join (the
+// ports, and the root), each of whose paths costs at least the rows' distances. Doubled, it
+// is a closed walk through v and one vertex of each such row, so it costs at least half the
+// shortest such tour by those distances: v's distances to the tour's two ends plus the
+// shortest Hamiltonian path between them through the rows (by apart_, Held-Karp). With many
+// rows the path is bounded by a minimum spanning tree instead (a 1-tree). Either way also the
+// largest distance. Both are 1-Lipschitz in v, so pruning by them never drops a state that
+// an unpruned state beyond it would need.
 struct DreyfusWagner::LowerBound {
-  std::vector<const double*> rows;  // distance rows of the ports still to join (and the root's)
+  static constexpr std::size_t kTourRows = 10;  // Held-Karp up to this many rows
+  const double* near = nullptr;  // near_
+  std::size_t width = 0;
+  std::size_t count = 0;         // rows still to join
+  std::array<std::uint8_t, 32> rows{};  // ... their indices (`ports`: the root)
+  std::array<double, kTourRows * kTourRows> path{};  // count x count shortest Hamiltonian paths
+  bool tour = false;             // path holds them; else half_tree bounds the rest
+  double half_tree = 0.0;        // half a minimum spanning tree on the rows
   double at(std::uint32_t v) const {
-    double lower = 0.0;
-    for (const double* r : rows) lower = std::max(lower, r[v]);
-    return lower;
+    const double* d = near + static_cast<std::size_t>(v) * width;
+    double x[32];
+    double far = 0.0;
+    for (std::size_t i = 0; i < count; ++i) x[i] = d[rows[i]], far = std::max(far, x[i]);
+    if (count < 2) return far;
+    if (tour) {
+      double best = kInf;
+      for (std::size_t i = 0; i < count; ++i) {
+        double inner = kInf;
+        for (std::size_t j = 0; j < count; ++j) inner = std::min(inner, path[i * count + j] + x[j]);
+        best = std::min(best, x[i] + inner);
+      }
+      return std::max(far, 0.5 * best);
+    }
+    double first = kInf, second = kInf;
+    for (std::size_t i = 0; i < count; ++i) {
+      second = std::min(second, std::max(first, x[i]));
+      first = std::min(first, x[i]);
+    }
+    return std::max(far, half_tree + 0.5 * (first + second));
   }
 };
 
@@ -46,6 +116,7 @@ namespace {
 // never entered, a closed one (see `expandable`) is settled but not expanded.
 template <class Beyond, class Expandable>
 struct RowVisitor {
+  std::uint32_t stop;  // the search ends once this vertex is settled (kNone: never)
   double* row;
   std::uint32_t* back;
   std::vector<std::uint32_t>& reached;
@@ -54,7 +125,9 @@ struct RowVisitor {
   Expandable& expandable;
 
   SettleAction settle(std::uint32_t v, double d) {
-    return d > row[v] || !expandable(v) ? SettleAction::kSkip : SettleAction::kExpand;  // stale or closed
+    if (d > row[v]) return SettleAction::kSkip;  // stale
+    if (v == stop) return SettleAction::kStop;
+    return expandable(v) ? SettleAction::kExpand : SettleAction::kSkip;  // closed
   }
   double distance(std::uint32_t v) const { return row[v]; }
   static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
@@ -75,11 +148,12 @@ struct RowVisitor {
 // in order alongside a heap that only holds improvements. With `lower` (a lower bound per
 // vertex on what the rest of any tree through it costs), states whose value plus it reaches
 // the bound are dropped: a tree cheaper than the bound never needs them (A*-like, exact).
+// With a valid `stop`, the search ends once it is settled (its value is then final).
 Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, Rows& rows,
-                           std::uint32_t r, const LowerBound* lower, const CancelToken& cancel) {
+                           std::uint32_t r, const LowerBound* lower, std::uint32_t stop, const CancelToken& cancel) {
   double* row = rows.value.data() + static_cast<std::size_t>(r) * rows.stride;
   std::uint32_t* back = rows.back.data() + static_cast<std::size_t>(r) * rows.stride;
-  const double bound = problem.bound;
+  const double bound = bound_;
   auto beyond = [&](std::uint32_t v, double d) { return lower ? d + lower->at(v) >= bound : d >= bound; };
   auto expandable = [&](std::uint32_t v) {
     if (!problem.obstacle[v]) return true;
@@ -99,7 +173,7 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
   std::sort(seeds_.begin(), seeds_.end());
   heap_.clear();
   SeededHeap frontier(seeds_, heap_);
-  RowVisitor<decltype(beyond), decltype(expandable)> visitor{row, back, reached_, frontier, beyond, expandable};
+  RowVisitor<decltype(beyond), decltype(expandable)> visitor{stop, row, back, reached_, frontier, beyond, expandable};
   if (Status status = run_dijkstra(graph, frontier, visitor, cancel, "Dreyfus-Wagner", polls_); !status.ok()) {
     return status;
   }
@@ -107,27 +181,21 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
   return Ok{};
 }
 
-// The singleton rows: distances from each port, bounded by the problem's bound. With
-// `prune` (a bounded problem whose relaxed rows exist) those rows prune these like the
-// others: a tree through port q's state at v also joins every other port (and the root) from v.
+// The singleton rows: distances from each port, bounded by the bound. With `prune` (the
+// relaxed rows exist and are packed) those rows prune these like the others: a tree through
+// port q's state at v also joins every other port (and the root) from v.
 Status DreyfusWagner::singleton_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool prune,
                                      const CancelToken& cancel) {
   const std::size_t n = graph.num_vertices();
   const std::size_t p = problem.ports;
-  LowerBound lower;
+  const std::uint32_t all = ((std::uint32_t{1} << p) - 1) | (problem.root.valid() ? std::uint32_t{1} << p : 0u);
   for (std::size_t q = 0; q < p; ++q) {
     const std::uint32_t s = std::uint32_t{1} << q;
     for (std::uint32_t v : port_vertices_[q]) table_.value[s * n + v] = 0.0;
     table_.finite[s] = port_vertices_[q];
     // Without relaxed rows the singleton rows are the other rows' lower bounds: not pruned.
-    lower.rows.clear();
-    if (prune) {
-      if (problem.root.valid()) lower.rows.push_back(relaxed_.value.data() + p * n);
-      for (std::size_t r = 0; r < p; ++r) {
-        if (r != q) lower.rows.push_back(relaxed_.value.data() + r * n);
-      }
-    }
-    if (auto st = grow(graph, problem, s, table_, s, prune ? &lower : nullptr, cancel); !st.ok()) {
+    const LowerBound lower = prune ? lower_bound(all & ~s) : LowerBound{};
+    if (auto st = grow(graph, problem, s, table_, s, prune ? &lower : nullptr, kNone, cancel); !st.ok()) {
       return st.take_error();
     }
   }
@@ -166,7 +234,7 @@ double DreyfusWagner::rows_bound(std::span<const std::uint32_t> rows, const Rows
   return lower;
 }
 
-// For a bounded problem, the lower bounds' rows: where loose subtrees could be passed
+// The lower bounds' rows: where loose subtrees could be passed
 // (`passable`), distances with every one of them passable (only terminals other than the
 // seeds block), which bound any tree path to the port from below; and the root's distances.
 Status DreyfusWagner::relaxed_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool passable,
@@ -182,7 +250,7 @@ Status DreyfusWagner::relaxed_rows(const EdgeGraph& graph, const GroupSteinerPro
   auto relaxed_row = [&](std::size_t r, std::span<const std::uint32_t> seeds) -> Status {
     for (std::uint32_t v : seeds) seed_mask_[v] = 1, seed_blocks_[v] = 0, relaxed_.value[r * n + v] = 0.0;
     relaxed_.finite[r].assign(seeds.begin(), seeds.end());
-    auto st = grow(graph, open, 1u, relaxed_, static_cast<std::uint32_t>(r), nullptr, cancel);
+    auto st = grow(graph, open, 1u, relaxed_, static_cast<std::uint32_t>(r), nullptr, kNone, cancel);
     for (std::uint32_t v : seeds) seed_mask_[v] = 0, seed_blocks_[v] = problem.leaf_only[v];
     return st;
   };
@@ -194,6 +262,149 @@ Status DreyfusWagner::relaxed_rows(const EdgeGraph& graph, const GroupSteinerPro
     if (auto st = relaxed_row(p, root); !st.ok()) return st.take_error();
   }
   return Ok{};
+}
+
+// The lower rows (the singleton rows where only terminals block, else the relaxed rows, and
+// the root's) packed per vertex for LowerBound, and between each two of them a lower bound on
+// a tree path joining them: the smaller of the two rows' distances to the other's vertices.
+void DreyfusWagner::pack_lower_rows(const GroupSteinerProblem& problem) {
+  const std::size_t n = table_.stride;
+  const std::size_t p = problem.ports;
+  const std::size_t width = p + 1;
+  width_ = width;
+  near_.assign(n * width, kInf);
+  auto pack = [&](std::size_t q, const Rows& from, std::size_t r) {
+    const double* row = from.value.data() + r * n;
+    for (std::uint32_t v : from.finite[r]) near_[v * width + q] = row[v];
+  };
+  for (std::size_t q = 0; q < p; ++q) {
+    if (lower_from_table_) {
+      pack(q, table_, std::size_t{1} << q);
+    } else {
+      pack(q, relaxed_, q);
+    }
+  }
+  if (problem.root.valid()) pack(p, relaxed_, p);
+  apart_.assign(width * width, kInf);
+  for (std::size_t b = 0; b < width; ++b) {
+    apart_[b * width + b] = 0.0;
+    auto join = [&](std::uint32_t v) {
+      for (std::size_t a = 0; a < width; ++a) apart_[a * width + b] = std::min(apart_[a * width + b], near_[v * width + a]);
+    };
+    if (b < p) {
+      for (std::uint32_t v : port_vertices_[b]) join(v);
+    } else if (problem.root.valid()) {
+      join(problem.root.value());
+    }
+  }
+  for (std::size_t a = 0; a < width; ++a) {
+    for (std::size_t b = 0; b < a; ++b) {
+      apart_[a * width + b] = apart_[b * width + a] = std::min(apart_[a * width + b], apart_[b * width + a]);
+    }
+  }
+  tour_paths();
+}
+
+// The lower bound for the states that still have to join the lower rows `still`: their
+// Hamiltonian paths (up to LowerBound::kTourRows rows), else a minimum spanning tree on them
+// by apart_ (Prim).
+DreyfusWagner::LowerBound DreyfusWagner::lower_bound(std::uint32_t still) const {
+  const std::size_t width = width_;
+  LowerBound lower;
+  lower.near = near_.data();
+  lower.width = width;
+  for (std::uint32_t m = still; m != 0; m &= m - 1) lower.rows[lower.count++] = static_cast<std::uint8_t>(std::countr_zero(m));
+  const std::size_t c = lower.count;
+  if (c < 2) return lower;
+  if (!tours_.empty()) {
+    lower.tour = true;
+    const double* at = tours_.data() + static_cast<std::size_t>(still) * width * width;
+    for (std::size_t i = 0; i < c; ++i) {
+      for (std::size_t j = 0; j < c; ++j) lower.path[i * c + j] = at[lower.rows[i] * width + lower.rows[j]];
+    }
+    return lower;
+  }
+  double link[32];
+  std::uint32_t out = (std::uint32_t{1} << c) - 2;  // rows (by position) not yet in the tree
+  for (std::size_t i = 1; i < c; ++i) link[i] = apart_[lower.rows[0] * width + lower.rows[i]];
+  double tree = 0.0;
+  while (out != 0) {
+    std::size_t next = static_cast<std::size_t>(std::countr_zero(out));
+    for (std::uint32_t m = out; m != 0; m &= m - 1) {
+      if (link[std::countr_zero(m)] < link[next]) next = static_cast<std::size_t>(std::countr_zero(m));
+    }
+    tree += link[next];
+    out &= ~(std::uint32_t{1} << next);
+    for (std::uint32_t m = out; m != 0; m &= m - 1) {
+      const auto i = static_cast<std::size_t>(std::countr_zero(m));
+      link[i] = std::min(link[i], apart_[lower.rows[next] * width + lower.rows[i]]);
+    }
+  }
+  lower.half_tree = 0.5 * tree;
+  return lower;
+}
+
+// Held-Karp over the lower rows by apart_: tours_[(S * width + a) * width + b] is the shortest
+// path from row a to row b through every row of S (a != b unless S = {a}; else infinite).
+void DreyfusWagner::tour_paths() {
+  const std::size_t w = width_;
+  tours_.clear();
+  if (w > LowerBound::kTourRows) return;
+  const std::size_t subsets = std::size_t{1} << w;
+  tours_.assign(subsets * w * w, kInf);
+  for (std::size_t a = 0; a < w; ++a) tours_[((std::size_t{1} << a) * w + a) * w + a] = 0.0;
+  for (std::size_t set = 1; set < subsets; ++set) {
+    if (std::has_single_bit(set)) continue;
+    double* at = tours_.data() + set * w * w;
+    for (std::size_t b = 0; b < w; ++b) {
+      if (!(set >> b & 1)) continue;
+      const std::size_t rest = set & ~(std::size_t{1} << b);
+      const double* before = tours_.data() + rest * w * w;
+      for (std::size_t a = 0; a < w; ++a) {
+        if (!(rest >> a & 1)) continue;
+        double best = kInf;
+        for (std::size_t c = 0; c < w; ++c) {
+          if (rest >> c & 1) best = std::min(best, before[a * w + c] + apart_[c * w + b]);
+        }
+        at[a * w + b] = best;
+      }
+    }
+  }
+}
+
+// Lowers the bound to a tree the table already holds (with a margin, so that the optimum's
+// states stay below it despite rounding): a free vertex's state in row s (s = 0: none) merged
+// with its state in the complementary row where that row is done, else with its singleton
+// rows' paths to every port still missing, and joined to the root by the root's row's path.
+// Merging at a free vertex and growing to the root are steps of the table, so the optimum
+// costs at most that sum. Only where those rows hold real paths: the table's rows, and the
+// root's row where only terminals block (it then follows the full row's rules).
+void DreyfusWagner::tighten_bound(const GroupSteinerProblem& problem, std::uint32_t s) {
+  if (problem.root.valid() && !lower_from_table_) return;
+  const std::size_t n = table_.stride;
+  const std::size_t p = problem.ports;
+  const std::size_t width = p + 1;
+  const std::uint32_t full = (std::uint32_t{1} << p) - 1;
+  const std::uint32_t rest = full & ~s;
+  const double* row = table_.value.data() + static_cast<std::size_t>(s) * n;
+  // Rows are done in increasing order: a smaller complement is done.
+  const double* other = rest != 0 && rest < s ? table_.value.data() + static_cast<std::size_t>(rest) * n : nullptr;
+  double best = kInf;
+  for (std::uint32_t v : table_.finite[s != 0 ? s : 1u]) {
+    if (problem.obstacle[v]) continue;
+    double sum = s != 0 ? row[v] : 0.0;
+    if (other != nullptr) {
+      sum += other[v];
+    } else {
+      for (std::uint32_t m = rest; m != 0; m &= m - 1) {
+        const auto q = static_cast<std::size_t>(std::countr_zero(m));
+        sum += lower_from_table_ ? near_[v * width + q] : table_.value[(std::size_t{1} << q) * n + v];
+      }
+    }
+    if (problem.root.valid()) sum += near_[v * width + p];
+    best = std::min(best, sum);
+  }
+  bound_ = std::min(bound_, best * (1.0 + 1e-9) + std::numeric_limits<double>::denorm_min());
 }
 
 void DreyfusWagner::merge(const GroupSteinerProblem& problem, std::uint32_t s) {
@@ -244,20 +455,20 @@ std::vector<HalfedgeId> DreyfusWagner::trace(const EdgeGraph& graph, std::uint32
   return out;
 }
 
-// The relaxed rows (for a bounded or targeted problem), then the singleton rows, with the
-// target's test as soon as the rows it needs exist. False: the target is ruled out.
+// The relaxed rows (where loose subtrees could be passed, and the root's), then the singleton
+// rows, with the target's test as soon as the rows it needs exist, and the lower rows packed
+// once they exist. False: the target is ruled out.
 Result<bool> DreyfusWagner::distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem,
                                           const CancelToken& cancel) {
   const std::size_t n = graph.num_vertices();
   const std::size_t p = problem.ports;
-  const bool bounded = problem.bound < kInf;
   const bool targeted = problem.target < kInf;
   bool passable = false;  // obstacles that are loose subtrees, not only terminals
   for (std::size_t v = 0; v < n && !passable; ++v) passable = problem.obstacle[v] && !problem.leaf_only[v];
   // Where only terminals block, each singleton row is its own relaxed row.
   lower_from_table_ = !passable;
   relaxed_.reset(p + 1, n);
-  if ((bounded || targeted) && (passable || problem.root.valid())) {
+  if (passable || problem.root.valid()) {
     if (auto st = relaxed_rows(graph, problem, passable, cancel); !st.ok()) return st.take_error();
   }
   std::vector<std::uint32_t> rows;  // the rows of the target's test: per port, and the root's
@@ -268,7 +479,9 @@ Result<bool> DreyfusWagner::distance_rows(const EdgeGraph& graph, const GroupSte
     return rows_bound(rows, port_rows) < problem.target;
   };
   if (targeted && passable && !below_target(relaxed_, false)) return false;
-  if (auto st = singleton_rows(graph, problem, passable && bounded, cancel); !st.ok()) return st.take_error();
+  if (passable) pack_lower_rows(problem);
+  if (auto st = singleton_rows(graph, problem, passable, cancel); !st.ok()) return st.take_error();
+  if (!passable) pack_lower_rows(problem);
   return !(targeted && !passable && !below_target(table_, true));
 }
 
@@ -287,29 +500,23 @@ Result<GroupSteinerTree> DreyfusWagner::solve(const EdgeGraph& graph, const Grou
       port_vertices_[static_cast<std::size_t>(std::countr_zero(m))].push_back(v);
     }
   }
+  bound_ = problem.bound;
   SEAM_TRY(const bool open, distance_rows(graph, problem, cancel));
   GroupSteinerTree tree;
   if (!open) {
     tree.target_ruled_out = true;
     return tree;
   }
-  const bool bounded = problem.bound < kInf;
-  LowerBound lower;
+  tighten_bound(problem, 0);
+  const std::uint32_t root_bit = problem.root.valid() ? std::uint32_t{1} << p : 0u;
   for (std::uint32_t s = 1; s < rows; ++s) {
     if (singleton(s)) continue;
     merge(problem, s);
-    if (bounded) {
-      lower.rows.clear();
-      if (problem.root.valid()) lower.rows.push_back(relaxed_.value.data() + p * n);
-      for (std::size_t q = 0; q < p; ++q) {
-        if (s & (std::uint32_t{1} << q)) continue;
-        lower.rows.push_back(lower_from_table_ ? table_.value.data() + (std::size_t{1} << q) * n
-                                               : relaxed_.value.data() + q * n);
-      }
-    }
-    if (auto st = grow(graph, problem, s, table_, s, bounded ? &lower : nullptr, cancel); !st.ok()) {
-      return st.take_error();
-    }
+    const LowerBound lower = lower_bound((full & ~s) | root_bit);
+    // The full row is only read at the root (when there is one): it ends there.
+    const std::uint32_t stop = s == full && problem.root.valid() ? problem.root.value() : kNone;
+    if (auto st = grow(graph, problem, s, table_, s, &lower, stop, cancel); !st.ok()) return st.take_error();
+    if (s != full) tighten_bound(problem, s);
   }
   const double* last = table_.value.data() + static_cast<std::size_t>(full) * n;
   std::uint32_t root = kNone;

@@ -33,8 +33,11 @@ struct GroupSteinerProblem {
   /// terminal), which saves the table half its rows. Invalid: the tree may end anywhere.
   VertexId root;
   /// Only trees cheaper than this are looked for; states that cannot lead to one (their value
-  /// plus a lower bound on the rest: the largest distance to a port still to join, computed
-  /// with every loose subtree passable) are dropped, which leaves the answer unchanged.
+  /// plus a lower bound on the rest, from the distances to the ports still to join computed
+  /// with every loose subtree passable: half the shortest tour through them and the state's
+  /// vertex, and the largest distance) are dropped, which leaves the answer unchanged. The
+  /// kernel lowers its own bound to the trees its table already holds (just above them), so
+  /// an infinite bound prunes too; the answer is the same minimum tree either way.
   double bound = std::numeric_limits<double>::infinity();
   /// Finite: the caller only wants a tree cheaper than this. When a lower bound from the
   /// distance rows (the cheapest subtree joining any three ports, or the two, with every loose
@@ -57,9 +60,10 @@ class DreyfusWagner {
   /// Dreyfus–Wagner over the 2^ports port subsets: merge rows at meeting points, then grow
   /// each row by a multi-source Dijkstra. Ties by vertex id; deterministic.
   /// Preconditions (SEAM_ASSERT): the spans have graph.num_vertices() entries, 1 <= ports <= 30.
-  /// Errors: kCancelled. Memory: 2^ports x V x 12 bytes (the caller caps it).
-  /// Complexity: O(3^p V + 2^p E log V), p = ports; with a target that the lower bound rules
-  /// out, O(p E log V + p^3 V).
+  /// Errors: kCancelled. Memory: 2^ports x V x 12 bytes (the caller caps it), plus
+  /// (ports + 1) x V doubles and, up to 9 ports, 2^(ports+1) x (ports+1)^2 doubles of bounds.
+  /// Complexity: O(3^p V + 2^p E log V), p = ports (times O(p^2) per lower-bound evaluation);
+  /// with a target that the lower bound rules out, O(p E log V + p^3 V).
   Result<GroupSteinerTree> solve(const EdgeGraph& graph, const GroupSteinerProblem& problem,
                                  const CancelToken& cancel = CancelToken::none());
 
@@ -67,22 +71,39 @@ class DreyfusWagner {
   using Entry = std::pair<double, std::uint32_t>;
   // The rows are sparse: a bounded problem leaves most states infinite, so every row keeps
   // the list of its finite entries and all work (merging, growing, resetting) walks lists.
+  // Large tables are asked for in transparent huge pages (where the OS has them): a fresh
+  // table is otherwise first touched in thousands of 4 KB page faults.
+  template <class T>
+  struct LargePages {
+    using value_type = T;
+    LargePages() = default;
+    template <class U>
+    LargePages(const LargePages<U>&) {}
+    T* allocate(std::size_t count);
+    void deallocate(T* p, std::size_t count);
+    template <class U>
+    bool operator==(const LargePages<U>&) const { return true; }
+  };
   struct Rows {
-    std::vector<double> value;                 // row-major, stride = vertex count; kInf off the lists
-    std::vector<std::uint32_t> back;           // slot of the last edge, kMerge | split, kNone at a seed
+    std::vector<double, LargePages<double>> value;  // row-major, stride = vertex count; kInf off the lists
+    std::vector<std::uint32_t, LargePages<std::uint32_t>> back;  // slot of the last edge, kMerge | split, kNone at a seed
     std::vector<std::vector<std::uint32_t>> finite;  // per row: its finite entries
     std::size_t stride = 0;
     void reset(std::size_t rows, std::size_t n);  // O(previous finite entries) + growth
   };
-  struct LowerBound;  // the largest distance to a port the row still has to join
+  struct LowerBound;  // what the rest of any tree through a vertex costs at least
   Status grow(const EdgeGraph& graph, const GroupSteinerProblem& problem, std::uint32_t s, Rows& rows,
-              std::uint32_t row, const LowerBound* lower, const CancelToken& cancel);
+              std::uint32_t row, const LowerBound* lower, std::uint32_t stop, const CancelToken& cancel);
   Result<bool> distance_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, const CancelToken& cancel);
   Status singleton_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool prune,
                         const CancelToken& cancel);
   double rows_bound(std::span<const std::uint32_t> rows, const Rows& from) const;
   Status relaxed_rows(const EdgeGraph& graph, const GroupSteinerProblem& problem, bool passable,
                       const CancelToken& cancel);
+  void pack_lower_rows(const GroupSteinerProblem& problem);
+  void tour_paths();
+  LowerBound lower_bound(std::uint32_t still) const;
+  void tighten_bound(const GroupSteinerProblem& problem, std::uint32_t s);
   void merge(const GroupSteinerProblem& problem, std::uint32_t s);
   std::vector<HalfedgeId> trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const;
 
@@ -95,6 +116,12 @@ class DreyfusWagner {
   LazyHeap heap_;
   std::vector<std::uint32_t> reached_;
   bool lower_from_table_ = false;  // the singleton rows serve as the relaxed rows
+  // The lower rows packed per vertex: near_[v * (ports + 1) + q], q = ports the root's.
+  std::vector<double> near_;
+  std::size_t width_ = 0;          // ports + 1
+  std::vector<double> apart_;      // (ports + 1)^2: lower bounds on the tree path between two ports
+  std::vector<double> tours_;      // Held-Karp paths over apart_ (see tour_paths); empty: too many rows
+  double bound_ = 0.0;             // problem.bound, lowered by the trees the table already holds
   std::uint32_t polls_ = 0;
 };
 

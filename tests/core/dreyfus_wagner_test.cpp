@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <limits>
+#include <queue>
 #include <random>
 #include <vector>
 
@@ -57,7 +59,88 @@ RandomProblem random_problem(const EdgeGraph& graph, std::size_t ports, std::mt1
   return out;
 }
 
+// The textbook Dreyfus-Wagner under the same rules, without bounds or pruning: every split
+// merged at every meeting point, every row grown over the whole graph.
+double reference_cost(const EdgeGraph& graph, const GroupSteinerProblem& problem) {
+  const std::size_t n = graph.num_vertices();
+  const std::uint32_t full = (1u << problem.ports) - 1;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> table(full + 1, std::vector<double>(n, inf));
+  auto singleton = [](std::uint32_t s) { return (s & (s - 1)) == 0; };
+  for (std::uint32_t s = 1; s <= full; ++s) {
+    std::vector<double>& row = table[s];
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (singleton(s) && (problem.port_mask[v] & s)) row[v] = 0.0;
+      const bool meets = !problem.obstacle[v] || (!problem.leaf_only[v] && (problem.port_mask[v] & s));
+      for (std::uint32_t a = (s - 1) & s; a > 0 && !singleton(s) && meets; a = (a - 1) & s) {
+        row[v] = std::min(row[v], table[a][v] + table[s ^ a][v]);
+      }
+    }
+    using Entry = std::pair<double, std::uint32_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (row[v] < inf) heap.emplace(row[v], v);
+    }
+    while (!heap.empty()) {
+      const auto [d, v] = heap.top();
+      heap.pop();
+      if (d > row[v]) continue;
+      const bool open = !problem.obstacle[v] || ((problem.port_mask[v] & s) && (!problem.leaf_only[v] || singleton(s)));
+      for (std::uint32_t slot = graph.offsets[v]; open && slot < graph.offsets[v + 1]; ++slot) {
+        const std::uint32_t w = graph.head[slot].value();
+        if (d + graph.weight[slot] < row[w]) heap.emplace(row[w] = d + graph.weight[slot], w);
+      }
+    }
+  }
+  if (problem.root.valid()) return table[full][problem.root.index()];
+  return *std::min_element(table[full].begin(), table[full].end());
+}
+
 }  // namespace
+
+TEST_CASE("Dreyfus-Wagner: the pruned table (goal-oriented lower bounds, a bound lowered by the trees it holds, "
+          "the full row ended at the root) finds the textbook optimum") {
+  const auto sphere = fx::icosphere(3);
+  const HalfedgeMesh mesh = build_halfedge_mesh(sphere.positions, sphere.triangles).value();
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(77);
+  DreyfusWagner kernel;  // reused: each solve starts from the tables the last one left
+  int solved = 0, rooted = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    CAPTURE(trial);
+    RandomProblem problem = random_problem(graph, 2 + static_cast<std::size_t>(trial % 5), rng);
+    GroupSteinerProblem view = problem.view(std::numeric_limits<double>::infinity(),
+                                            std::numeric_limits<double>::infinity());
+    if (trial % 2) {  // a root: a terminal that is no port (the last of random_problem's extras)
+      for (std::uint32_t v = static_cast<std::uint32_t>(graph.num_vertices()); v-- > 0;) {
+        if (problem.leaf_only[v] && !problem.port_mask[v]) {
+          view.root = VertexId(v);
+          break;
+        }
+      }
+    }
+    const double expected = reference_cost(graph, view);
+    if (!(expected < std::numeric_limits<double>::infinity())) continue;  // ports walled in
+    rooted += view.root.valid();
+    ++solved;
+    for (const double bound : {std::numeric_limits<double>::infinity(), expected * 1.05, expected * 1.0000001}) {
+      view.bound = bound;
+      auto r = kernel.solve(graph, view);
+      REQUIRE(r.ok());
+      CHECK(r->cost == doctest::Approx(expected).epsilon(1e-12));
+      double length = 0.0;
+      for (HalfedgeId h : r->halfedges) length += mesh.edge_length(HalfedgeMesh::edge(h));
+      CHECK(length == doctest::Approx(expected).epsilon(1e-9));
+    }
+    view.bound = expected * 0.999;  // nothing below it
+    auto none = kernel.solve(graph, view);
+    REQUIRE(none.ok());
+    CHECK(none->cost == std::numeric_limits<double>::infinity());
+    CHECK(none->halfedges.empty());
+  }
+  CHECK(solved >= 20);
+  CHECK(rooted >= 8);
+}
 
 TEST_CASE("Dreyfus-Wagner: the target's lower bound rules out only trees that cannot beat it, and changes nothing else") {
   const auto sphere = fx::icosphere(3);
