@@ -1,6 +1,5 @@
 // seamd: argument dispatch only. Serving lives in seam_server_lib, batch mode in seam_api.
 #include <fcntl.h>
-#include <malloc.h>
 #include <poll.h>
 #include <pthread.h>
 #include <sys/signalfd.h>
@@ -114,17 +113,9 @@ int serve(int argc, char** argv) {
   return 0;
 }
 
-// Buffers of 8 MiB and more (a 1M-face mesh's arrays) come straight from mmap and go back to
-// the system when freed. glibc's default raises that threshold after the first such buffer is
-// freed (up to 32 MiB), after which freed arrays stay in the heap and the next stage's are
-// placed beside them: the default job at 1.25M faces peaked at 980 MiB that way and at 920 MiB
-// with the threshold fixed (scripts/memory-bench.py --levels 3). Smaller jobs never reach it.
-void return_large_buffers() { mallopt(M_MMAP_THRESHOLD, 8 << 20); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  return_large_buffers();
   if (argc >= 2 && (std::strcmp(argv[1], "seam") == 0 || std::strcmp(argv[1], "batch") == 0 ||
                     std::strcmp(argv[1], "sample") == 0 || std::strcmp(argv[1], "--version") == 0)) {
     seam::api::CliContext context;
