@@ -103,6 +103,7 @@ class DreyfusWagner {
   void pack_lower_rows(const GroupSteinerProblem& problem);
   void tour_paths();
   LowerBound lower_bound(std::uint32_t still) const;
+  std::vector<std::uint32_t> row_order(const GroupSteinerProblem& problem);
   void tighten_bound(const GroupSteinerProblem& problem, std::uint32_t s);
   void merge(const GroupSteinerProblem& problem, std::uint32_t s);
   std::vector<HalfedgeId> trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const;
@@ -115,12 +116,15 @@ class DreyfusWagner {
   std::vector<Entry> seeds_;
   LazyHeap heap_;
   std::vector<std::uint32_t> reached_;
+  std::vector<std::uint32_t> merged_;
   bool lower_from_table_ = false;  // the singleton rows serve as the relaxed rows
-  // The lower rows packed per vertex: near_[v * (ports + 1) + q], q = ports the root's.
-  std::vector<double> near_;
+  // The lower rows packed per vertex: near_[v * (ports + 1) + q], q = ports the root's;
+  // floats rounded down (half the cache lines of the lower bounds' hottest loads).
+  std::vector<float> near_;
   std::size_t width_ = 0;          // ports + 1
   std::vector<double> apart_;      // (ports + 1)^2: lower bounds on the tree path between two ports
   std::vector<double> tours_;      // Held-Karp paths over apart_ (see tour_paths); empty: too many rows
+  std::vector<std::uint8_t> done_;  // per row: done (its complement may tighten the bound)
   double bound_ = 0.0;             // problem.bound, lowered by the trees the table already holds
   std::uint32_t polls_ = 0;
 };
