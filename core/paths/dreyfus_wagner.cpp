@@ -120,7 +120,7 @@ struct RowVisitor {
   std::uint32_t stop;  // the search ends once this vertex is settled (kNone: never)
   double* row;
   std::uint32_t* back;
-  std::vector<std::uint32_t>& reached;
+  std::uint64_t* marks;  // the row's finite entries (bits)
   SeededHeap& frontier;
   Beyond& beyond;
   Expandable& expandable;
@@ -134,7 +134,7 @@ struct RowVisitor {
   static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
   void relax(std::uint32_t, std::uint32_t w, double nd, std::uint32_t slot) {
     if (nd < row[w] && !beyond(w, nd)) {
-      if (row[w] == kInf) reached.push_back(w);
+      marks[w >> 6] |= std::uint64_t{1} << (w & 63);
       row[w] = nd;
       back[w] = slot;
       frontier.push(nd, w);
@@ -161,7 +161,6 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
     return (problem.port_mask[v] & s) != 0 && (!problem.leaf_only[v] || singleton(s));
   };
   seeds_.clear();
-  reached_.clear();
   for (std::uint32_t v : rows.finite[r]) {
     if (beyond(v, row[v])) {
       row[v] = kInf;
@@ -169,18 +168,32 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
       continue;
     }
     seeds_.emplace_back(row[v], v);
-    reached_.push_back(v);
+    marks_[v >> 6] |= std::uint64_t{1} << (v & 63);
   }
   std::sort(seeds_.begin(), seeds_.end());
   heap_.clear();
   SeededHeap frontier(seeds_, heap_);
-  RowVisitor<decltype(beyond), decltype(expandable)> visitor{stop, row, back, reached_, frontier, beyond, expandable};
+  RowVisitor<decltype(beyond), decltype(expandable)> visitor{stop, row, back, marks_.data(), frontier, beyond, expandable};
   if (Status status = run_dijkstra(graph, frontier, visitor, cancel, "Dreyfus-Wagner", polls_); !status.ok()) {
     return status;
   }
-  // Copied, not swapped: reached_ keeps its capacity, and no list grows by reallocation.
-  rows.finite[r].assign(reached_.begin(), reached_.end());
+  take_marks(rows.finite[r]);
   return Ok{};
+}
+
+// The marked vertices as a list in increasing order (so that merging and growing walk the
+// rows forwards), allocated once at its size; the marks are cleared.
+void DreyfusWagner::take_marks(std::vector<std::uint32_t>& list) {
+  std::size_t count = 0;
+  for (std::uint64_t word : marks_) count += static_cast<std::size_t>(std::popcount(word));
+  list.resize(count);
+  std::size_t at = 0;
+  for (std::size_t w = 0; w < marks_.size(); ++w) {
+    for (std::uint64_t bits = marks_[w]; bits != 0; bits &= bits - 1) {
+      list[at++] = static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)));
+    }
+    marks_[w] = 0;
+  }
 }
 
 // The singleton rows: distances from each port, bounded by the bound. With `prune` (the
@@ -456,8 +469,6 @@ void DreyfusWagner::merge(const GroupSteinerProblem& problem, std::uint32_t s) {
   const std::size_t n = table_.stride;
   double* row = table_.value.data() + static_cast<std::size_t>(s) * n;
   std::uint32_t* back = table_.back.data() + static_cast<std::size_t>(s) * n;
-  auto& list = merged_;  // copied to the row's list at the end (see grow)
-  list.clear();
   // Partial trees meet only at free vertices and at vertices of ports they already hold.
   auto meeting_point = [&](std::uint32_t v) {
     return !problem.obstacle[v] || (!problem.leaf_only[v] && (problem.port_mask[v] & s) != 0);
@@ -473,12 +484,12 @@ void DreyfusWagner::merge(const GroupSteinerProblem& problem, std::uint32_t s) {
     for (std::uint32_t v : walk) {
       const double value = ra[v] + rb[v];
       if (!(value < row[v]) || !meeting_point(v)) continue;
-      if (row[v] == kInf) list.push_back(v);
+      marks_[v >> 6] |= std::uint64_t{1} << (v & 63);
       row[v] = value;
       back[v] = kMerge | a;
     }
   }
-  table_.finite[s].assign(list.begin(), list.end());
+  take_marks(table_.finite[s]);
 }
 
 std::vector<HalfedgeId> DreyfusWagner::trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const {
@@ -541,6 +552,7 @@ Result<GroupSteinerTree> DreyfusWagner::solve(const EdgeGraph& graph, const Grou
   const auto rows = std::uint32_t{1} << p;
   const std::uint32_t full = rows - 1;
   table_.reset(rows, n);
+  marks_.assign((n + 63) / 64, 0);
   port_vertices_.assign(p, {});
   for (std::uint32_t v = 0; v < n; ++v) {
     for (std::uint32_t m = problem.port_mask[v]; m != 0; m &= m - 1) {

@@ -106,6 +106,7 @@ class DreyfusWagner {
   std::vector<std::uint32_t> row_order(const GroupSteinerProblem& problem);
   void tighten_bound(const GroupSteinerProblem& problem, std::uint32_t s);
   void merge(const GroupSteinerProblem& problem, std::uint32_t s);
+  void take_marks(std::vector<std::uint32_t>& list);
   std::vector<HalfedgeId> trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const;
 
   Rows table_;    // row s: the subset s of ports
@@ -115,8 +116,7 @@ class DreyfusWagner {
   std::vector<std::uint8_t> seed_blocks_;      // ... and only terminals other than its seeds block
   std::vector<Entry> seeds_;
   LazyHeap heap_;
-  std::vector<std::uint32_t> reached_;
-  std::vector<std::uint32_t> merged_;
+  std::vector<std::uint64_t> marks_;  // a row's finite entries while it is merged or grown
   bool lower_from_table_ = false;  // the singleton rows serve as the relaxed rows
   // The lower rows packed per vertex: near_[v * (ports + 1) + q], q = ports the root's;
   // floats rounded down (half the cache lines of the lower bounds' hottest loads).
