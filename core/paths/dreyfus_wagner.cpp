@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdlib>
+#include <utility>
 #include <memory>
 #include <new>
 
@@ -170,7 +171,7 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
     seeds_.emplace_back(row[v], v);
     marks_[v >> 6] |= std::uint64_t{1} << (v & 63);
   }
-  std::sort(seeds_.begin(), seeds_.end());
+  sort_seeds();
   heap_.clear();
   SeededHeap frontier(seeds_, heap_);
   RowVisitor<decltype(beyond), decltype(expandable)> visitor{stop, row, back, marks_.data(), frontier, beyond, expandable};
@@ -181,16 +182,40 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
   return Ok{};
 }
 
+// Sorts seeds_ by (value, vertex): they come in vertex order, so a stable LSD radix sort on
+// the value's bits (non-negative doubles order as their bit patterns) is enough; digits every
+// seed shares (the exponent's, mostly) cost a histogram and no pass.
+void DreyfusWagner::sort_seeds() {
+  constexpr int kBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  if (seeds_.size() < 64) {
+    std::sort(seeds_.begin(), seeds_.end());
+    return;
+  }
+  std::array<std::uint32_t, kBuckets> count;
+  spare_.resize(seeds_.size());
+  for (int shift = 0; shift < 64; shift += kBits) {
+    count.fill(0);
+    auto digit = [&](const Entry& e) { return (std::bit_cast<std::uint64_t>(e.first) >> shift) & (kBuckets - 1); };
+    for (const Entry& e : seeds_) ++count[digit(e)];
+    if (count[digit(seeds_.front())] == seeds_.size()) continue;  // one digit: already in order
+    std::uint32_t sum = 0;
+    for (std::uint32_t& c : count) sum += std::exchange(c, sum);
+    for (const Entry& e : seeds_) spare_[count[digit(e)]++] = e;
+    seeds_.swap(spare_);
+  }
+}
+
 // The marked vertices as a list in increasing order (so that merging and growing walk the
 // rows forwards), allocated once at its size; the marks are cleared.
 void DreyfusWagner::take_marks(std::vector<std::uint32_t>& list) {
   std::size_t count = 0;
   for (std::uint64_t word : marks_) count += static_cast<std::size_t>(std::popcount(word));
-  list.resize(count);
-  std::size_t at = 0;
+  list.clear();
+  list.reserve(count);  // not resized: no zero fill
   for (std::size_t w = 0; w < marks_.size(); ++w) {
     for (std::uint64_t bits = marks_[w]; bits != 0; bits &= bits - 1) {
-      list[at++] = static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)));
+      list.push_back(static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(bits))));
     }
     marks_[w] = 0;
   }

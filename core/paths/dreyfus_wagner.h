@@ -107,6 +107,7 @@ class DreyfusWagner {
   void tighten_bound(const GroupSteinerProblem& problem, std::uint32_t s);
   void merge(const GroupSteinerProblem& problem, std::uint32_t s);
   void take_marks(std::vector<std::uint32_t>& list);
+  void sort_seeds();
   std::vector<HalfedgeId> trace(const EdgeGraph& graph, std::uint32_t full, std::uint32_t root) const;
 
   Rows table_;    // row s: the subset s of ports
@@ -115,6 +116,7 @@ class DreyfusWagner {
   std::vector<std::uint32_t> seed_mask_;       // the relaxed rows' problem: its seeds as port 0
   std::vector<std::uint8_t> seed_blocks_;      // ... and only terminals other than its seeds block
   std::vector<Entry> seeds_;
+  std::vector<Entry> spare_;  // sort_seeds' other buffer
   LazyHeap heap_;
   std::vector<std::uint64_t> marks_;  // a row's finite entries while it is merged or grown
   bool lower_from_table_ = false;  // the singleton rows serve as the relaxed rows
