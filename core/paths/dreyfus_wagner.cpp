@@ -5,9 +5,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdlib>
-#include <utility>
 #include <memory>
 #include <new>
+#include <utility>
 
 #if __has_include(<sys/mman.h>)
 #include <sys/mman.h>
@@ -21,12 +21,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::uint32_t kNone = 0xffffffffu;
 constexpr std::uint32_t kMerge = 0x80000000u;
 
+constexpr std::size_t kLargePage = std::size_t{2} << 20;
+
 bool singleton(std::uint32_t s) { return (s & (s - 1)) == 0; }
 
-}  // namespace
-
-namespace {
-constexpr std::size_t kLargePage = std::size_t{2} << 20;
 }  // namespace
 
 template <class T>
@@ -77,8 +75,9 @@ void DreyfusWagner::Rows::reset(std::size_t rows, std::size_t n) {
 // shortest such tour by those distances: v's distances to the tour's two ends plus the
 // shortest Hamiltonian path between them through the rows (by apart_, Held-Karp). With many
 // rows the path is bounded by a minimum spanning tree instead (a 1-tree). Either way also the
-// largest distance. Both are 1-Lipschitz in v, so pruning by them never drops a state that
-// an unpruned state beyond it would need.
+// largest distance. The bound is consistent (1-Lipschitz along an edge, and a merge's part
+// costs at least what it takes off the bound), so every state of a tree cheaper than the
+// bound is below it too, and no state such a tree needs is dropped.
 struct DreyfusWagner::LowerBound {
   static constexpr std::size_t kTourRows = 10;  // Held-Karp up to this many rows
   const float* near = nullptr;   // near_

@@ -142,6 +142,31 @@ TEST_CASE("Dreyfus-Wagner: the pruned table (goal-oriented lower bounds, a bound
   CHECK(rooted >= 8);
 }
 
+TEST_CASE("Dreyfus-Wagner: with more ports than the tours are kept for, the 1-tree bound finds the optimum") {
+  const auto sphere = fx::icosphere(2);
+  const HalfedgeMesh mesh = build_halfedge_mesh(sphere.positions, sphere.triangles).value();
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(5);
+  DreyfusWagner kernel;
+  int solved = 0;
+  for (int trial = 0; trial < 3; ++trial) {
+    CAPTURE(trial);
+    const RandomProblem problem = random_problem(graph, 10, rng);  // 11 lower rows with the bound's
+    GroupSteinerProblem view = problem.view(std::numeric_limits<double>::infinity(),
+                                            std::numeric_limits<double>::infinity());
+    const double expected = reference_cost(graph, view);
+    if (!(expected < std::numeric_limits<double>::infinity())) continue;
+    ++solved;
+    for (const double bound : {std::numeric_limits<double>::infinity(), expected * 1.0000001}) {
+      view.bound = bound;
+      auto r = kernel.solve(graph, view);
+      REQUIRE(r.ok());
+      CHECK(r->cost == doctest::Approx(expected).epsilon(1e-12));
+    }
+  }
+  CHECK(solved >= 1);
+}
+
 TEST_CASE("Dreyfus-Wagner: the target's lower bound rules out only trees that cannot beat it, and changes nothing else") {
   const auto sphere = fx::icosphere(3);
   const HalfedgeMesh mesh = build_halfedge_mesh(sphere.positions, sphere.triangles).value();
