@@ -155,7 +155,20 @@ Status DreyfusWagner::grow(const EdgeGraph& graph, const GroupSteinerProblem& pr
   double* row = rows.value.data() + static_cast<std::size_t>(r) * rows.stride;
   std::uint32_t* back = rows.back.data() + static_cast<std::size_t>(r) * rows.stride;
   const double bound = bound_;
-  auto beyond = [&](std::uint32_t v, double d) { return lower ? d + lower->at(v) >= bound : d >= bound; };
+  if (++epoch_ == 0) {
+    std::fill(memo_.begin(), memo_.end(), Memo{});
+    epoch_ = 1;
+  }
+  if (memo_.size() < rows.stride) memo_.resize(rows.stride);
+  Memo* memo = memo_.data();
+  const std::uint32_t epoch = epoch_;
+  auto beyond = [&](std::uint32_t v, double d) {
+    if (d >= bound) return true;
+    if (!lower) return false;
+    Memo& m = memo[v];
+    if (m.epoch != epoch) m = {lower->at(v), epoch};
+    return d + m.lower >= bound;
+  };
   auto expandable = [&](std::uint32_t v) {
     if (!problem.obstacle[v]) return true;
     return (problem.port_mask[v] & s) != 0 && (!problem.leaf_only[v] || singleton(s));

@@ -127,6 +127,12 @@ class DreyfusWagner {
   std::vector<double> apart_;      // (ports + 1)^2: lower bounds on the tree path between two ports
   std::vector<double> tours_;      // Held-Karp paths over apart_ (see tour_paths); empty: too many rows
   std::vector<std::uint8_t> done_;  // per row: done (its complement may tighten the bound)
+  struct Memo {
+    double lower = 0.0;
+    std::uint32_t epoch = 0;
+  };
+  std::vector<Memo> memo_;  // per vertex: its lower bound in the row being grown (epoch_)
+  std::uint32_t epoch_ = 0;
   double bound_ = 0.0;             // problem.bound, lowered by the trees the table already holds
   std::uint32_t polls_ = 0;
 };
