@@ -315,7 +315,7 @@ class ProxySystem {
   // contacts as inequalities n . (relative motion) >= h, by their Schur complement
   // S = G A^-1 G^T with the step's own factor: one solve per contact, then one for the
   // correction, no refactorization. Empty if not finite.
-  std::vector<Vec2> constrained(const std::vector<Vec2>& free, const std::vector<Contact>& contacts) const {
+  std::vector<Vec2> constrained(const std::vector<Vec2>& free, const std::vector<Contact>& contacts) {
     const auto m = static_cast<Eigen::Index>(contacts.size());
     Eigen::VectorXd violation(m);
     for (Eigen::Index i = 0; i < m; ++i) {
@@ -324,7 +324,8 @@ class ProxySystem {
       for (int k = 0; k < 3; ++k) rel += c.w[k].dot(free[c.v[k]]);
       violation(i) = rel - c.h;
     }
-    const Eigen::VectorXd lambda = active_multipliers(contact_schur(contacts), violation);
+    const Eigen::VectorXd lambda =
+        active_multipliers(solver_.supernodal() ? contact_schur(contacts) : contact_schur_sparse(contacts), violation);
     if (!lambda.allFinite()) return {};
     Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), rhs_.cols());
     for (Eigen::Index j = 0; j < m; ++j) {
@@ -401,6 +402,62 @@ class ProxySystem {
           for (int comp = 0; comp < parts; ++comp) e += row_times(ci, w, parts * j + comp, comp);
           s(i, first + j) = e;
         }
+      }
+    }
+    return s;
+  }
+
+  // The contact's row (component `comp` with the isotropic proxy) as (unknown, coefficient).
+  std::vector<std::pair<int, double>> row_entries(const Contact& c, int comp) const {
+    std::vector<std::pair<int, double>> entries;
+    for (int k = 0; k < 3; ++k) {
+      if (c.v[k] == 0) continue;
+      if (block_ == 2) {
+        for (int a = 0; a < 2; ++a) entries.emplace_back(static_cast<int>(unknown(c.v[k], a)), c.w[k][a]);
+      } else {
+        entries.emplace_back(static_cast<int>(unknown(c.v[k], 0)), c.w[k][comp]);
+      }
+    }
+    return entries;
+  }
+
+  // S as contact_schur, with a simplicial factor: S_ij = sum over the parts of
+  // (L^-1 P g_i) . (L^-1 P g_j), each half-solve computed on the reach of the contact's few
+  // unknowns in the elimination tree only (SparseCholesky::half_solve_sparse), where
+  // contact_schur runs two whole solves per contact. NaN where CHOLMOD fails.
+  Eigen::MatrixXd contact_schur_sparse(const std::vector<Contact>& contacts) {
+    const auto m = static_cast<Eigen::Index>(contacts.size());
+    const int parts = block_ == 1 ? 2 : 1;
+    std::vector<std::vector<std::pair<int, double>>> half(static_cast<std::size_t>(m * parts));
+    for (Eigen::Index i = 0; i < m; ++i) {
+      for (int comp = 0; comp < parts; ++comp) {
+        const auto entries = row_entries(contacts[static_cast<std::size_t>(i)], comp);
+        auto& y = half[static_cast<std::size_t>(i * parts + comp)];
+        y = solver_.half_solve_sparse(entries);
+        if (y.empty() && !entries.empty()) return Eigen::MatrixXd::Constant(m, m, std::numeric_limits<double>::quiet_NaN());
+      }
+    }
+    auto dot = [](const std::vector<std::pair<int, double>>& a, const std::vector<std::pair<int, double>>& b) {
+      double sum = 0;
+      for (std::size_t p = 0, q = 0; p < a.size() && q < b.size();) {
+        if (a[p].first < b[q].first) {
+          ++p;
+        } else if (b[q].first < a[p].first) {
+          ++q;
+        } else {
+          sum += a[p++].second * b[q++].second;
+        }
+      }
+      return sum;
+    };
+    Eigen::MatrixXd s(m, m);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      for (Eigen::Index j = i; j < m; ++j) {
+        double e = 0;
+        for (int comp = 0; comp < parts; ++comp) {
+          e += dot(half[static_cast<std::size_t>(i * parts + comp)], half[static_cast<std::size_t>(j * parts + comp)]);
+        }
+        s(i, j) = s(j, i) = e;
       }
     }
     return s;

@@ -2,7 +2,10 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <mutex>
+
+#include "core/error.h"
 
 namespace seam::core {
 
@@ -21,6 +24,51 @@ void use_single_threaded_solvers() {
   done = true;
   using SetLevels = void (*)(int);
   if (auto* set = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
+}
+
+SparseCholesky::~SparseCholesky() {
+  cholmod_free_dense(&b_, &cholmod());
+  cholmod_free_sparse(&b_set_, &cholmod());
+  cholmod_free_dense(&x_, &cholmod());
+  cholmod_free_sparse(&x_set_, &cholmod());
+  cholmod_free_dense(&y_, &cholmod());
+  cholmod_free_dense(&e_, &cholmod());
+}
+
+std::vector<std::pair<int, double>> SparseCholesky::half_solve_sparse(std::span<const std::pair<int, double>> b) {
+  SEAM_ASSERT(m_cholmodFactor != nullptr && m_factorizationIsOk && m_cholmodFactor->is_super == 0 &&
+              m_cholmodFactor->is_ll != 0);
+  const auto n = static_cast<int>(m_cholmodFactor->n);
+  if (b_ == nullptr) {
+    b_ = cholmod_zeros(static_cast<std::size_t>(n), 1, CHOLMOD_REAL, &cholmod());
+    b_set_ = cholmod_allocate_sparse(static_cast<std::size_t>(n), 1, static_cast<std::size_t>(n), 1, 1, 0,
+                                     CHOLMOD_PATTERN, &cholmod());
+    position_.assign(static_cast<std::size_t>(n), 0);
+    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+    for (int i = 0; i < n; ++i) position_[static_cast<std::size_t>(perm ? perm[i] : i)] = i;
+  }
+  if (b_ == nullptr || b_set_ == nullptr) return {};
+  auto* bx = static_cast<double*>(b_->x);
+  auto* bp = static_cast<int*>(b_set_->p);
+  auto* bi = static_cast<int*>(b_set_->i);
+  bp[0] = 0;
+  bp[1] = static_cast<int>(b.size());
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const int row = position_[static_cast<std::size_t>(b[k].first)];  // (P b)[row] = b[unknown]
+    bi[k] = row;
+    bx[row] = b[k].second;
+  }
+  const int ok = cholmod_solve2(CHOLMOD_L, m_cholmodFactor, b_, b_set_, &x_, &x_set_, &y_, &e_, &cholmod());
+  for (std::size_t k = 0; k < b.size(); ++k) bx[bi[k]] = 0;  // b_ is all zero between calls
+  if (!ok || x_ == nullptr || x_set_ == nullptr) return {};
+  const int* xp = static_cast<const int*>(x_set_->p);
+  const int* xi = static_cast<const int*>(x_set_->i);
+  const auto* xx = static_cast<const double*>(x_->x);
+  std::vector<std::pair<int, double>> y;
+  y.reserve(static_cast<std::size_t>(xp[1] - xp[0]));
+  for (int p = xp[0]; p < xp[1]; ++p) y.emplace_back(xi[p], xx[xi[p]]);
+  std::sort(y.begin(), y.end());
+  return y;
 }
 
 bool SparseCholesky::supernodal() const { return m_cholmodFactor != nullptr && m_cholmodFactor->is_super != 0; }

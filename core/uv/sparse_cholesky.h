@@ -4,6 +4,10 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
+#include <span>
+#include <utility>
+#include <vector>
+
 namespace seam::core {
 
 /// Makes the solvers run single-threaded in the calling thread: an optimized BLAS
@@ -62,8 +66,22 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
     return *this;
   }
 
+  SparseCholesky(const SparseCholesky&) = delete;
+  SparseCholesky& operator=(const SparseCholesky&) = delete;
+  ~SparseCholesky();
+
   /// After the analysis: whether the factor is supernodal.
   bool supernodal() const;
+
+  /// y = L^-1 P b, half of a solve (A = P^T L L^T P), so that b^T A^-1 c = y_b . y_c: for a
+  /// right-hand side with few nonzeros, computed on the reach of their pattern in the
+  /// elimination tree only (CHOLMOD's partial solve, cholmod_solve2 with Bset), typically a
+  /// small part of the n unknowns. `b` lists (unknown, value) with distinct unknowns. Returns
+  /// y's nonzeros as (row in the factor's order, value), rows increasing. Preconditions
+  /// (SEAM_ASSERT): a successful factorize() of a simplicial factor (supernodal() false: CHOLMOD
+  /// would convert a supernodal one). Empty when CHOLMOD fails. Keeps its workspace (four
+  /// vectors of n doubles) between calls.
+  std::vector<std::pair<int, double>> half_solve_sparse(std::span<const std::pair<int, double>> b);
 
  private:
   using Base = Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>;
@@ -81,6 +99,14 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   }
 
   Eigen::Index nested_dissection_min_ = -1;  // -1: never
+  // half_solve_sparse's right-hand side, its pattern and CHOLMOD's reusable outputs.
+  cholmod_dense* b_ = nullptr;
+  cholmod_sparse* b_set_ = nullptr;
+  cholmod_dense* x_ = nullptr;
+  cholmod_sparse* x_set_ = nullptr;
+  cholmod_dense* y_ = nullptr;
+  cholmod_dense* e_ = nullptr;
+  std::vector<int> position_;  // unknown -> row in the factor's order
 };
 
 }  // namespace seam::core

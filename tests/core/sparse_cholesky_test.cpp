@@ -6,6 +6,7 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "core/uv/sparse_cholesky.h"
@@ -133,5 +134,39 @@ TEST_CASE("OpenBLAS, when it is the BLAS, and CHOLMOD's OpenMP loops run single-
     CHECK(get() == 0);
   } else {
     MESSAGE("CHOLMOD is built without OpenMP: nothing to limit");
+  }
+}
+
+TEST_CASE("half solves on the reach of a sparse right-hand side give b^T A^-1 c exactly as whole solves do") {
+  const int m = 40;
+  const Eigen::SparseMatrix<double> a = grid_laplacian(m, 2, 0.01);
+  SparseCholesky solver(a);
+  REQUIRE(solver.info() == Eigen::Success);
+  REQUIRE_FALSE(solver.supernodal());
+  // Right-hand sides with three nonzeros each, as a boundary contact's row: a vertex and an edge.
+  const std::vector<std::vector<std::pair<int, double>>> rows = {
+      {{5, 1.0}, {6, -0.5}, {45, -0.5}}, {{820, 0.3}, {821, 0.7}, {861, -1.0}}, {{1599, 2.0}, {0, -1.0}, {799, 0.25}}};
+  std::vector<std::vector<std::pair<int, double>>> half;
+  for (const auto& row : rows) {
+    half.push_back(solver.half_solve_sparse(row));
+    REQUIRE_FALSE(half.back().empty());
+    CHECK(std::is_sorted(half.back().begin(), half.back().end()));
+    CHECK(half.back().size() < static_cast<std::size_t>(a.rows()));  // the reach, not the whole
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(a.rows());
+    for (const auto& [k, v] : rows[i]) b[k] = v;
+    const Eigen::VectorXd x = solver.solve(b);
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      double expected = 0;
+      for (const auto& [k, v] : rows[j]) expected += v * x[k];
+      double got = 0;
+      for (const auto& [r, v] : half[i]) {
+        for (const auto& [q, w] : half[j]) got += r == q ? v * w : 0.0;
+      }
+      CAPTURE(i);
+      CAPTURE(j);
+      CHECK(got == doctest::Approx(expected).epsilon(1e-12));
+    }
   }
 }
