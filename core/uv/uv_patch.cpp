@@ -86,8 +86,11 @@ Vec3 corner_cotans(const DiscPatch& patch, std::size_t t) {
 
 Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch) {
   const auto n = static_cast<Eigen::Index>(patch.num_vertices());
+  // Off-diagonal triplets only; the diagonal is summed here in the same triangle order as
+  // setFromTriplets would sum it (the same doubles), at half the triplets to sort.
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(patch.triangles.size() * 12);
+  entries.reserve(patch.triangles.size() * 6 + static_cast<std::size_t>(n));
+  std::vector<double> diagonal(static_cast<std::size_t>(n), 0.0);
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Triangle& tri = patch.triangles[t];
     const Vec3 cot = corner_cotans(patch, t);
@@ -98,10 +101,11 @@ Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch) {
       const double w = 0.5 * cot[k];
       entries.emplace_back(i, j, -w);
       entries.emplace_back(j, i, -w);
-      entries.emplace_back(i, i, w);
-      entries.emplace_back(j, j, w);
+      diagonal[static_cast<std::size_t>(i)] += w;
+      diagonal[static_cast<std::size_t>(j)] += w;
     }
   }
+  for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, diagonal[static_cast<std::size_t>(v)]);
   Eigen::SparseMatrix<double> laplacian(n, n);
   laplacian.setFromTriplets(entries.begin(), entries.end());
   return laplacian;
