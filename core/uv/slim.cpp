@@ -378,14 +378,16 @@ class ProxySystem {
     return sum;
   }
 
-  // S = G A^-1 G^T, solved in chunks of 2 contacts (4 right-hand sides, 20 MB at 1.25M faces).
+  // S = G A^-1 G^T, solved one contact at a time (2 right-hand sides with the isotropic proxy,
+  // 10 MB at 1.25M faces): chunks of 2 contacts set the default job's peak at 1.25M faces (993
+  // MiB against 935 MiB, memory-bench --levels 3) and were no faster (76-82 s against 61-64 s).
   // With the isotropic proxy a contact's row is G_u on u and G_v on v, so
   // S_ij = G_u,i A^-1 G_u,j^T + G_v,i A^-1 G_v,j^T: two solves per contact.
   Eigen::MatrixXd contact_schur(const std::vector<Contact>& contacts) const {
     const auto m = static_cast<Eigen::Index>(contacts.size());
     const int parts = block_ == 1 ? 2 : 1;
     Eigen::MatrixXd s(m, m);
-    constexpr Eigen::Index kChunk = 2;
+    constexpr Eigen::Index kChunk = 1;
     for (Eigen::Index first = 0; first < m; first += kChunk) {
       const Eigen::Index count = std::min(kChunk, m - first);
       Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), parts * count);
