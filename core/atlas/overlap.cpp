@@ -139,6 +139,31 @@ Grid build_grid(const std::vector<Box>& boxes, const std::vector<char>& live) {
   return g;
 }
 
+// Calls f(a, b) once for every pair of boxes listed together in a cell of g that meet, in the
+// cell holding the lower-left corner of their intersection. `closed`: boxes touching along a
+// line or at a point meet too; otherwise only boxes sharing area do. Stops and returns false as
+// soon as f returns false.
+template <class F>
+bool for_candidate_pairs(const Grid& g, const std::vector<Box>& boxes, bool closed, F&& f) {
+  for (std::size_t c = 0; c + 1 < g.offset.size(); ++c) {
+    const std::int64_t cx = static_cast<std::int64_t>(c) % g.nx;
+    const std::int64_t cy = static_cast<std::int64_t>(c) / g.nx;
+    for (std::uint32_t i = g.offset[c]; i < g.offset[c + 1]; ++i) {
+      const std::uint32_t a = g.items[i];
+      for (std::uint32_t j = i + 1; j < g.offset[c + 1]; ++j) {
+        const std::uint32_t b = g.items[j];
+        const Vec2 lo = boxes[a].lo.cwiseMax(boxes[b].lo);
+        const Vec2 hi = boxes[a].hi.cwiseMin(boxes[b].hi);
+        const bool meet = closed ? lo.x() <= hi.x() && lo.y() <= hi.y() : lo.x() < hi.x() && lo.y() < hi.y();
+        if (!meet) continue;
+        if (g.cx(lo.x()) != cx || g.cy(lo.y()) != cy) continue;  // met in another cell
+        if (!f(a, b)) return false;
+      }
+    }
+  }
+  return true;
+}
+
 // Whether closed segments pq and rs share a point (exact).
 bool segments_meet(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
   const int o1 = orient2d(p, q, r);
@@ -204,36 +229,23 @@ bool boundary_loops_disjoint(std::span<const Vec2> uv, const std::vector<std::ui
   }
   const Grid g = build_grid(boxes, std::vector<char>(boxes.size(), 1));
   std::size_t tests = 0;
-  for (std::size_t c = 0; c + 1 < g.offset.size(); ++c) {
-    const std::int64_t cx = static_cast<std::int64_t>(c) % g.nx;
-    const std::int64_t cy = static_cast<std::int64_t>(c) / g.nx;
-    for (std::uint32_t i = g.offset[c]; i < g.offset[c + 1]; ++i) {
-      for (std::uint32_t j = i + 1; j < g.offset[c + 1]; ++j) {
-        const std::uint32_t a = g.items[i];
-        const std::uint32_t b = g.items[j];
-        const Vec2 lo = boxes[a].lo.cwiseMax(boxes[b].lo);
-        const Vec2 hi = boxes[a].hi.cwiseMin(boxes[b].hi);
-        if (!(lo.x() <= hi.x() && lo.y() <= hi.y())) continue;
-        if (g.cx(lo.x()) != cx || g.cy(lo.y()) != cy) continue;  // tested in another cell
-        if (++tests > budget) return false;
-        const std::uint32_t sa = starts[a];
-        const std::uint32_t sb = starts[b];
-        if (next[sa] == sb || next[sb] == sa) {
-          // Consecutive: they share one vertex and must not fold back along each other.
-          const std::uint32_t first = next[sa] == sb ? sa : sb;
-          const Vec2& p = uv[first];
-          const Vec2& m = uv[next[first]];
-          const Vec2& r = uv[next[next[first]]];
-          if (next[next[first]] == first) return false;  // a two-segment loop cannot bound area
-          if (orient2d(p, m, r) != 0) continue;
-          const bool opposite = p.x() != m.x() ? (p.x() < m.x()) == (m.x() < r.x()) : (p.y() < m.y()) == (m.y() < r.y());
-          if (!opposite) return false;
-          continue;
-        }
-        if (segments_meet(uv[sa], uv[next[sa]], uv[sb], uv[next[sb]])) return false;
-      }
+  const bool apart = for_candidate_pairs(g, boxes, true, [&](std::uint32_t a, std::uint32_t b) {
+    if (++tests > budget) return false;
+    const std::uint32_t sa = starts[a];
+    const std::uint32_t sb = starts[b];
+    if (next[sa] == sb || next[sb] == sa) {
+      // Consecutive: they share one vertex and must not fold back along each other.
+      const std::uint32_t first = next[sa] == sb ? sa : sb;
+      const Vec2& p = uv[first];
+      const Vec2& m = uv[next[first]];
+      const Vec2& r = uv[next[next[first]]];
+      if (next[next[first]] == first) return false;  // a two-segment loop cannot bound area
+      if (orient2d(p, m, r) != 0) return true;
+      return p.x() != m.x() ? (p.x() < m.x()) == (m.x() < r.x()) : (p.y() < m.y()) == (m.y() < r.y());
     }
-  }
+    return !segments_meet(uv[sa], uv[next[sa]], uv[sb], uv[next[sb]]);
+  });
+  if (!apart) return false;
   // The loops are simple and disjoint. Each must turn as its triangles do (the orientation at
   // its lowest-leftmost vertex is the loop's) and hold no other loop's vertex.
   std::vector<std::uint32_t> loop_of(next.size(), kNone);
@@ -358,37 +370,27 @@ Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Tr
   }
   const Grid g = build_grid(boxes, live);
   std::uint32_t poll = 0;
-  for (std::size_t c = 0; c + 1 < g.offset.size(); ++c) {
-    const std::int64_t cx = static_cast<std::int64_t>(c) % g.nx;
-    const std::int64_t cy = static_cast<std::int64_t>(c) / g.nx;
-    for (std::uint32_t i = g.offset[c]; i < g.offset[c + 1]; ++i) {
-      if (cancel.poll(poll)) return cancelled_error("find_overlaps");
-      const std::uint32_t a = g.items[i];
-      for (std::uint32_t j = i + 1; j < g.offset[c + 1]; ++j) {
-        const std::uint32_t b = g.items[j];
-        const Vec2 lo = boxes[a].lo.cwiseMax(boxes[b].lo);
-        const Vec2 hi = boxes[a].hi.cwiseMin(boxes[b].hi);
-        // Boxes meeting only along a line cannot share interior points.
-        if (!(lo.x() < hi.x() && lo.y() < hi.y())) continue;
-        if (g.cx(lo.x()) != cx || g.cy(lo.y()) != cy) continue;  // counted in another cell
-        ++result.candidate_pairs;
-        if (!interiors_intersect_ccw(tri[a], tri[b])) continue;
-        const double area = clipped_area_ccw(tri[a], tri[b]);
-        const std::uint32_t lo_t = std::min(a, b);
-        const std::uint32_t hi_t = std::max(a, b);
-        if (!result.overlaps || lo_t < result.first_pair[0] ||
-            (lo_t == result.first_pair[0] && hi_t < result.first_pair[1])) {
-          result.first_pair[0] = lo_t;
-          result.first_pair[1] = hi_t;
-        }
-        result.overlaps = true;
-        ++result.overlapping_pairs;
-        result.overlap_area += area;
-        const bool same = triangle_chart.empty() || triangle_chart[a] == triangle_chart[b];
-        (same ? result.within_chart_area : result.between_charts_area) += area;
-      }
+  // Boxes meeting only along a line cannot share interior points: open boxes.
+  const bool finished = for_candidate_pairs(g, boxes, false, [&](std::uint32_t a, std::uint32_t b) {
+    if (cancel.poll(poll)) return false;
+    ++result.candidate_pairs;
+    if (!interiors_intersect_ccw(tri[a], tri[b])) return true;
+    const double area = clipped_area_ccw(tri[a], tri[b]);
+    const std::uint32_t lo_t = std::min(a, b);
+    const std::uint32_t hi_t = std::max(a, b);
+    if (!result.overlaps || lo_t < result.first_pair[0] ||
+        (lo_t == result.first_pair[0] && hi_t < result.first_pair[1])) {
+      result.first_pair[0] = lo_t;
+      result.first_pair[1] = hi_t;
     }
-  }
+    result.overlaps = true;
+    ++result.overlapping_pairs;
+    result.overlap_area += area;
+    const bool same = triangle_chart.empty() || triangle_chart[a] == triangle_chart[b];
+    (same ? result.within_chart_area : result.between_charts_area) += area;
+    return true;
+  });
+  if (!finished) return cancelled_error("find_overlaps");
   result.overlap_fraction = result.uv_area > 0 ? result.overlap_area / result.uv_area : 0.0;
   result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -7,16 +7,18 @@ namespace seam::core {
 
 Svd2 svd_2x2(const Eigen::Matrix2d& j) {
   // j = [a b; c d] = Q + R with Q = [e -h; h e] (rotation-scale) and R = [f g; g -f]
-  // (reflection-scale); |Q| and |R| give the singular values, their angles the rotations.
+  // (reflection-scale); |Q| and |R| give the singular values, their directions the rotations.
+  // hypot: squeezed charts reach entries of 1e-170, whose squares underflow.
   const double e = 0.5 * (j(0, 0) + j(1, 1));
   const double f = 0.5 * (j(0, 0) - j(1, 1));
   const double g = 0.5 * (j(1, 0) + j(0, 1));
   const double h = 0.5 * (j(1, 0) - j(0, 1));
   const double q = std::hypot(e, h);
   const double r = std::hypot(f, g);
-  const double a1 = std::atan2(g, f);
-  const double a2 = std::atan2(h, e);
-  return {.s1 = q + r, .s2 = q - r, .u_angle = 0.5 * (a2 + a1), .v_angle = 0.5 * (a2 - a1)};
+  return {.s1 = q + r,
+          .s2 = q - r,
+          .rotation = q > 0 ? Vec2(e / q, h / q) : Vec2(1, 0),
+          .reflection = r > 0 ? Vec2(f / r, g / r) : Vec2(1, 0)};
 }
 
 TriangleJacobian triangle_jacobian(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& q0, const Vec2& q1,

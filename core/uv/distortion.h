@@ -9,14 +9,16 @@
 
 namespace seam::core {
 
-/// Closed-form SVD of a 2x2 matrix: j = Rot(u_angle) diag(s1, s2) Rot(v_angle) with
-/// s1 = |Q| + |R| >= |s2|, s2 = |Q| - |R| signed (negative iff det j < 0), where Q and R are
-/// j's rotation and reflection parts. The closest rotation to j is Rot(u_angle + v_angle).
+/// Closed-form SVD of a 2x2 matrix: j = Rot(u) diag(s1, s2) Rot(v) with s1 = |Q| + |R| >= |s2|,
+/// s2 = |Q| - |R| signed (negative iff det j < 0), where Q = [e -h; h e] and R = [f g; g -f]
+/// are j's rotation-scale and reflection-scale parts. The angles come as unit vectors, no
+/// trigonometry: `rotation` = (e, h) / |Q| = (cos, sin) of u + v (the closest rotation to j is
+/// Rot(u + v)), `reflection` = (f, g) / |R| = (cos, sin) of u - v; (1, 0) where the part is 0.
 struct Svd2 {
   double s1 = 0;
   double s2 = 0;
-  double u_angle = 0;
-  double v_angle = 0;
+  Vec2 rotation = Vec2(1, 0);
+  Vec2 reflection = Vec2(1, 0);
 };
 Svd2 svd_2x2(const Eigen::Matrix2d& j);
 

@@ -166,29 +166,20 @@ void scale_to_surface_area(const DiscPatch& patch, const std::vector<TriangleOpe
 // SLIM's proxy weights for the symmetric Dirichlet energy (the paper's Table 1, after its
 // Eq. 6): w_i^2 = (s_i - s_i^-3) / (s_i - 1) = (s_i + 1)(s_i^2 + 1) / s_i^3, with the 2x2 SVD
 // J = Rot(phi) diag(s1, s2) Rot(theta) in closed form. Returns M = W^T W = U diag(w^2) U^T
-// and the closest rotation R = U V^T. Weights are capped at `cap`. No trigonometry: with
-// J = Q + R split as in svd_2x2 (rotation-scale (e, h), reflection-scale (f, g)), R's angle
-// is that of (e, h) and 2 phi is the sum of the angles of (e, h) and (f, g), so their
-// cosines and sines are the normalised vectors (the assembly's cost was mostly atan2/sincos).
+// and the closest rotation R = U V^T. Weights are capped at `cap`. No trigonometry: R's angle
+// and 2 phi = (u + v) + (u - v) come from svd_2x2's unit vectors (the assembly's cost was
+// mostly atan2/sincos when svd_2x2 returned angles).
 void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eigen::Matrix2d& r) {
-  const double e = 0.5 * (j(0, 0) + j(1, 1));
-  const double f = 0.5 * (j(0, 0) - j(1, 1));
-  const double g = 0.5 * (j(1, 0) + j(0, 1));
-  const double h = 0.5 * (j(1, 0) - j(0, 1));
-  const double q = std::hypot(e, h);  // hypot: squeezed limbs reach 1e-170, whose squares underflow
-  const double reflection = std::hypot(f, g);
-  const double s1 = q + reflection;
-  const double s2 = std::max(q - reflection, 1e-12);  // positive: the line search keeps det > 0
+  const Svd2 svd = svd_2x2(j);
+  const double s1 = svd.s1;
+  const double s2 = std::max(svd.s2, 1e-12);  // positive: the line search keeps det > 0
   auto weight2 = [cap](double s) { return std::min((s + 1) * (s * s + 1) / (s * s * s), cap); };
   const double w1 = weight2(s1);
   const double w2 = weight2(s2);
-  // (cos, sin) of the rotation's angle and of the reflection's (0 when J is conformal).
-  const double c2 = q > 0 ? e / q : 1.0;
-  const double s2a = q > 0 ? h / q : 0.0;
-  const double c1 = reflection > 0 ? f / reflection : 1.0;
-  const double s1a = reflection > 0 ? g / reflection : 0.0;
-  const double cos_2phi = c1 * c2 - s1a * s2a;
-  const double sin_2phi = s1a * c2 + c1 * s2a;
+  const Vec2& rot = svd.rotation;
+  const Vec2& refl = svd.reflection;
+  const double cos_2phi = refl.x() * rot.x() - refl.y() * rot.y();
+  const double sin_2phi = refl.y() * rot.x() + refl.x() * rot.y();
   // (cos phi, sin phi) by the half angle, from the side where nothing cancels: the weights can
   // differ by 20 orders of magnitude, so M = c^2 w1 + s^2 w2 ... needs s^2 to relative accuracy.
   Vec2 half = cos_2phi >= 0 ? Vec2(1 + cos_2phi, sin_2phi) : Vec2(sin_2phi, 1 - cos_2phi);
@@ -196,7 +187,7 @@ void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eig
   const double c = half.x();
   const double s = half.y();
   m << c * c * w1 + s * s * w2, c * s * (w1 - w2), c * s * (w1 - w2), s * s * w1 + c * c * w2;
-  r << c2, -s2a, s2a, c2;
+  r << rot.x(), -rot.y(), rot.y(), rot.x();
 }
 
 // SLIM's reweighted proxy as a sparse system over the free unknowns (vertex 0 is pinned: the
@@ -350,31 +341,30 @@ class ProxySystem {
     return block_ == 2 ? m(unknown(v, c), 0) : m(unknown(v, 0), c);
   }
 
-  // Adds scale x (the contact's row) to column `col` of g: with 2x2 blocks w on the u and v
-  // unknowns; with the isotropic proxy (u and v in two columns of one system) component
-  // `comp` of w alone (vertex 0 is pinned: no unknown).
-  void add_row(Eigen::MatrixXd& g, Eigen::Index col, const Contact& c, double scale, int comp) const {
+  // Calls f(unknown, coefficient) for every entry of the contact's row: with 2x2 blocks w on
+  // the u and v unknowns; with the isotropic proxy (u and v in two columns of one system)
+  // component `comp` of w alone (vertex 0 is pinned: no unknown).
+  template <class F>
+  void for_each_entry(const Contact& c, int comp, F&& f) const {
     for (int k = 0; k < 3; ++k) {
       if (c.v[k] == 0) continue;
       if (block_ == 2) {
-        for (int a = 0; a < 2; ++a) g(unknown(c.v[k], a), col) += scale * c.w[k][a];
+        for (int a = 0; a < 2; ++a) f(unknown(c.v[k], a), c.w[k][a]);
       } else {
-        g(unknown(c.v[k], 0), col) += scale * c.w[k][comp];
+        f(unknown(c.v[k], 0), c.w[k][comp]);
       }
     }
+  }
+
+  // Adds scale x (the contact's row) to column `col` of g.
+  void add_row(Eigen::MatrixXd& g, Eigen::Index col, const Contact& c, double scale, int comp) const {
+    for_each_entry(c, comp, [&](Eigen::Index row, double w) { g(row, col) += scale * w; });
   }
 
   // The contact's row (component `comp` with the isotropic proxy) applied to column `col` of y.
   double row_times(const Contact& c, const Eigen::MatrixXd& y, Eigen::Index col, int comp) const {
     double sum = 0;
-    for (int k = 0; k < 3; ++k) {
-      if (c.v[k] == 0) continue;
-      if (block_ == 2) {
-        for (int a = 0; a < 2; ++a) sum += c.w[k][a] * y(unknown(c.v[k], a), col);
-      } else {
-        sum += c.w[k][comp] * y(unknown(c.v[k], 0), col);
-      }
-    }
+    for_each_entry(c, comp, [&](Eigen::Index row, double w) { sum += w * y(row, col); });
     return sum;
   }
 
@@ -412,14 +402,7 @@ class ProxySystem {
   // The contact's row (component `comp` with the isotropic proxy) as (unknown, coefficient).
   std::vector<std::pair<int, double>> row_entries(const Contact& c, int comp) const {
     std::vector<std::pair<int, double>> entries;
-    for (int k = 0; k < 3; ++k) {
-      if (c.v[k] == 0) continue;
-      if (block_ == 2) {
-        for (int a = 0; a < 2; ++a) entries.emplace_back(static_cast<int>(unknown(c.v[k], a)), c.w[k][a]);
-      } else {
-        entries.emplace_back(static_cast<int>(unknown(c.v[k], 0)), c.w[k][comp]);
-      }
-    }
+    for_each_entry(c, comp, [&](Eigen::Index row, double w) { entries.emplace_back(static_cast<int>(row), w); });
     return entries;
   }
 
