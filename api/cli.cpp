@@ -2,12 +2,14 @@
 // api/cli_batch.cpp, the shared parsing and IO in api/cli_common.cpp.
 #include "api/cli.h"
 
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "api/cli_common.h"
 #include "api/pipeline.h"
+#include "api/process_env.h"
 #include "api/sample_mesh.h"
 
 namespace seam::api {
@@ -183,6 +185,11 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
   }
 
   const std::string& in_path = args.own["in"];
+  if (context.reexec_argv != nullptr && in_path != "-") {
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(in_path, ec);
+    if (!ec && size >= kHugePageInputBytes) reexec_with(ProcessEnv{}, context.reexec_argv);
+  }
   auto bytes = cli::read_input(in_path, in);
   if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);
   auto asset = cli::load_asset(std::move(bytes).value(), in_path);

@@ -16,6 +16,11 @@ struct CliContext {
   /// Default `batch --workers` and the thread budget split among workers; 0 = the hardware
   /// concurrency.
   unsigned cores = 0;
+  /// main's argv. When set, `seamd seam` with an input file of at least kHugePageInputBytes
+  /// (api/process_env.h) and `seamd batch` execute the program again under ProcessEnv's
+  /// huge-page malloc, once the arguments are checked and before any input is read. Null (the
+  /// tests): never.
+  char** reexec_argv = nullptr;
 };
 
 /// Runs a CLI command. argv[0] is the command: "seam", "batch", "sample" or "--version".

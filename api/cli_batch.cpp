@@ -15,6 +15,7 @@
 #include "api/cli.h"
 #include "api/cli_common.h"
 #include "api/pipeline.h"
+#include "api/process_env.h"
 
 namespace seam::api {
 namespace {
@@ -313,6 +314,7 @@ int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const
   const unsigned cores = context.cores != 0 ? context.cores : std::max(1u, std::thread::hardware_concurrency());
   auto plan = plan_batch(args, cores);
   if (!plan.ok()) return cli::fail(err, plan.error(), 2);
+  if (context.reexec_argv != nullptr) reexec_with(ProcessEnv{}, context.reexec_argv);  // before any output exists
   auto outputs = prepare_outputs(args);
   if (!outputs.ok()) return cli::fail(err, outputs.error(), 2);
   auto jobs = collect_jobs(args.positional, *outputs, plan->out_ext);

@@ -23,6 +23,7 @@
 
 #include "api/gltf_reader.h"
 #include "api/pipeline.h"
+#include "bench_util.h"
 
 namespace {
 
@@ -91,6 +92,7 @@ std::vector<std::pair<int, int>> triangle_primitives(const std::string& asset) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   const int pairs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   const unsigned threads = argc > 2 ? static_cast<unsigned>(std::max(1, std::atoi(argv[2]))) : 2;
   const json manifest = json::parse(read_bytes(assets_dir() / "manifest.json"));

@@ -433,6 +433,7 @@ void slim_cost_section(const std::vector<std::string>& only, bool fold_free) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   const std::string what = argc > 1 ? argv[1] : "all";
   const bool quick = what == "quick";
   if (what == "overlap" || what == "all" || quick) overlap_section(quick);

@@ -58,6 +58,7 @@ void run_row(const std::string& mesh_name, const char* label, const core::Halfed
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   std::vector<std::string> names = {"hand", "camel", "dino", "elephant", "cow", "homer", "armadillo"};
   if (argc > 1) names.assign(argv + 1, argv + argc);
   std::printf("default uv method: %s; extrema: find_extrema() with default options; optimal limited to 8 terminals\n\n",

@@ -58,6 +58,7 @@ double cpu_ms(F&& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   bool quick = false, seam_too = true;
   std::size_t seam_max_faces = 400000;  // the seam on larger meshes takes minutes on 2 cores
   for (int i = 1; i < argc; ++i) {

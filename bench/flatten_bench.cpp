@@ -92,6 +92,7 @@ void paired(const std::string& name, const core::HalfedgeMesh& disc, int pairs) 
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   const int pairs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   const std::size_t min_faces = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 900'000;
   std::vector<std::string> names = {"lion-head", "camel"};

@@ -17,6 +17,7 @@
 #include "api/gltf_writer.h"
 #include "api/mesh_io.h"
 #include "api/surface.h"
+#include "bench_util.h"
 
 namespace {
 
@@ -58,6 +59,7 @@ double best_of(int runs, F&& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   bool quick = false;
   bool glb_only = false;
   const char* write_path = nullptr;

@@ -121,6 +121,7 @@ int run_job(int runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   if (argc > 1 && std::strcmp(argv[1], "--job") == 0) return run_job(argc > 2 ? std::atoi(argv[2]) : 3);
   struct Input {
     std::string name;

@@ -253,6 +253,7 @@ void timing_table(bool quick, bool skeleton_only) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   bool quick = false, lengths = true, timings = true, skeleton_only = false;
   std::vector<std::string> only;  // --mesh NAME (repeatable): length table for these meshes only
   for (int i = 1; i < argc; ++i) {

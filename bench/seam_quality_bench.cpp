@@ -212,6 +212,7 @@ void speed_table(bool quick, bool large) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   bool quick = false, speed_only = false, no_speed = false, large = false;
   std::size_t sets = 12;
   std::string only;

@@ -122,6 +122,7 @@ void timing_table(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const bool timing_only = argc > 1 && std::strcmp(argv[1], "--timing") == 0;
   const bool quality_only = argc > 1 && std::strcmp(argv[1], "--quality") == 0;

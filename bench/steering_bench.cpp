@@ -51,6 +51,7 @@ Run run(const std::string& glb, const json& params) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   std::vector<std::string> meshes = {"elephant", "camel", "bull", "cow", "armadillo", "bunny00", "dino", "mushroom"};
   if (argc > 1) meshes.assign(argv + 1, argv + argc);
   const json axes = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};

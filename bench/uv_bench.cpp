@@ -163,6 +163,7 @@ void seam_section(bool quick) {
 }
 
 int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
   const bool quick = argc > 1 && std::strcmp(argv[1], "quick") == 0;
   const bool seams_only = argc > 1 && std::strcmp(argv[1], "seams") == 0;
   const bool scale_only = argc > 1 && std::strcmp(argv[1], "scale") == 0;

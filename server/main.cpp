@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "api/cli.h"
+#include "api/process_env.h"
 #include "server/config.h"
 #include "server/server.h"
 
@@ -52,19 +53,6 @@ bool wait_for_stop(int stop_fd) {
       return byte == 1;
     }
   }
-}
-
-// OpenBLAS starts its thread pool when it is loaded, before main, unless
-// OPENBLAS_NUM_THREADS says 1 (seamd uses it single-threaded anyway). Re-executes seamd once
-// with it set, so that no thread exists that does not block the stop signals.
-void single_threaded_blas(char** argv) {
-  if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr) return;
-  char self[4096];
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-  if (n <= 0) return;
-  self[n] = '\0';  // the real path, so that ps and top still say "seamd"
-  setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  execv(self, argv);  // returns only on failure: then serve as we are
 }
 
 int serve(int argc, char** argv) {
@@ -121,11 +109,16 @@ int main(int argc, char** argv) {
     seam::api::CliContext context;
     context.version = SEAM_VERSION;
     context.stdout_is_terminal = isatty(STDOUT_FILENO) == 1;
+    context.reexec_argv = argv;
     // A reader that quits early (`seamd seam in.glb - | head -c 4`) is a failed write, not a kill.
     std::signal(SIGPIPE, SIG_IGN);
     std::ios::sync_with_stdio(false);  // whole assets through cin/cout: no per-character stdio sync
     return seam::api::run_cli(argc - 1, argv + 1, std::cin, std::cout, std::cerr, context);
   }
-  single_threaded_blas(argv);
+  // OpenBLAS starts its thread pool when it is loaded, before main, unless
+  // OPENBLAS_NUM_THREADS says 1 (seamd uses it single-threaded anyway): executed again with it
+  // set, no thread exists that does not block the stop signals. The same start turns on
+  // huge-page malloc (api/process_env.h).
+  seam::api::reexec_with({.huge_page_malloc = true, .single_threaded_blas = true}, argv);
   return serve(argc, argv);
 }

@@ -7,6 +7,8 @@
 #include "api/gltf_writer.h"
 #include "test_data.h"
 
+#include <algorithm>
+#include <fstream>
 #include <future>
 
 #include "seamd_process.h"
@@ -106,4 +108,52 @@ TEST_CASE("seamd as a process: slow clients at SIGTERM do not outlast the drain 
   CHECK(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 0);
   CHECK(seconds < 2.0 + 3.0);  // the drain timeout plus the poll slices and process exit
+}
+
+namespace {
+
+// The process's environment, as the kernel holds it: NAME=VALUE entries.
+std::vector<std::string> environment_of(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/environ", std::ios::binary);
+  std::vector<std::string> entries;
+  std::string entry;
+  while (std::getline(in, entry, '\0')) entries.push_back(entry);
+  return entries;
+}
+
+bool has_entry(const std::vector<std::string>& env, const std::string& entry) {
+  return std::find(env.begin(), env.end(), entry) != env.end();
+}
+
+bool has_name(const std::vector<std::string>& env, const std::string& name) {
+  return std::any_of(env.begin(), env.end(), [&](const std::string& e) { return e.rfind(name + "=", 0) == 0; });
+}
+
+}  // namespace
+
+TEST_CASE("seamd as a process: it executes itself once, with huge-page malloc and single-threaded BLAS") {
+  // An empty GLIBC_TUNABLES, as a shell script may export: seamd adds the setting
+  // (api/process_env.h).
+  Seamd seamd({"--workers", "1"}, {"GLIBC_TUNABLES="});
+  const auto env = environment_of(seamd.pid());
+  REQUIRE_FALSE(env.empty());
+  CHECK(has_entry(env, "GLIBC_TUNABLES=glibc.malloc.hugetlb=1"));
+  CHECK(has_entry(env, "SEAMD_REEXECUTED=1"));
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) CHECK(has_entry(env, "OPENBLAS_NUM_THREADS=1"));
+  // It still serves a job.
+  auto glb = seam::api::write_plain_glb(seam::test_data::load_cgal("camel"));
+  REQUIRE(glb.ok());
+  httplib::Client client("127.0.0.1", seamd.port());
+  client.set_read_timeout(std::chrono::seconds(60));
+  auto res = client.Post("/seam", *glb, "model/gltf-binary");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+}
+
+TEST_CASE("seamd as a process: settings the caller gives are kept, and then it starts only once") {
+  Seamd seamd({"--workers", "1"}, {"GLIBC_TUNABLES=glibc.malloc.hugetlb=0", "OPENBLAS_NUM_THREADS=1"});
+  const auto env = environment_of(seamd.pid());
+  REQUIRE_FALSE(env.empty());
+  CHECK(has_entry(env, "GLIBC_TUNABLES=glibc.malloc.hugetlb=0"));
+  CHECK_FALSE(has_name(env, "SEAMD_REEXECUTED"));
 }

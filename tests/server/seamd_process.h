@@ -222,16 +222,26 @@ class TricklingClients {
 /// /healthz answers. Killed on destruction if still running.
 class Seamd {
  public:
-  explicit Seamd(std::vector<std::string> args) : port_(free_port()) {
+  /// `env`: NAME=VALUE entries added to (or replacing those of) the test's environment.
+  explicit Seamd(std::vector<std::string> args, std::vector<std::string> env = {}) : port_(free_port()) {
     std::vector<std::string> all = {SEAMD_BINARY, "--bind", "127.0.0.1", "--port", std::to_string(port_), "--log-level", "off"};
     all.insert(all.end(), args.begin(), args.end());
+    // Built before fork: the child only calls execve.
+    for (char** e = environ; *e != nullptr; ++e) {
+      const std::string entry = *e;
+      const std::string name = entry.substr(0, entry.find('=') + 1);
+      const bool replaced = std::any_of(env.begin(), env.end(), [&](const std::string& o) { return o.rfind(name, 0) == 0; });
+      if (!replaced) env.push_back(entry);
+    }
+    std::vector<char*> argv, envp;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    for (auto& e : env) envp.push_back(e.data());
+    envp.push_back(nullptr);
     pid_ = fork();
     REQUIRE(pid_ >= 0);
     if (pid_ == 0) {
-      std::vector<char*> argv;
-      for (auto& a : all) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(SEAMD_BINARY, argv.data());
+      execve(SEAMD_BINARY, argv.data(), envp.data());
       _exit(127);
     }
     bool up = false;
