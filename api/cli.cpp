@@ -185,10 +185,11 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
   }
 
   const std::string& in_path = args.own["in"];
-  if (context.reexec_argv != nullptr && in_path != "-") {
+  if (context.reexec_argv != nullptr) {
     std::error_code ec;
-    const std::uintmax_t size = std::filesystem::file_size(in_path, ec);
+    const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
     if (!ec && size >= kHugePageInputBytes) reexec_with(ProcessEnv{}, context.reexec_argv);
+    if (!process_env_in_place(ProcessEnv{})) keep_freed_memory_for_short_job();  // not executed again
   }
   auto bytes = cli::read_input(in_path, in);
   if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);

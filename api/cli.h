@@ -16,10 +16,11 @@ struct CliContext {
   /// Default `batch --workers` and the thread budget split among workers; 0 = the hardware
   /// concurrency.
   unsigned cores = 0;
-  /// main's argv. When set, `seamd seam` with an input file of at least kHugePageInputBytes
-  /// (api/process_env.h) and `seamd batch` execute the program again under ProcessEnv's
-  /// huge-page malloc, once the arguments are checked and before any input is read. Null (the
-  /// tests): never.
+  /// main's argv, set when the CLI has the process to itself. Then `seamd seam` with an input
+  /// file of at least kHugePageInputBytes (api/process_env.h) and `seamd batch` execute the
+  /// program again under ProcessEnv's huge-page malloc, once the arguments are checked and
+  /// before any input is read; a smaller `seamd seam` job keeps freed memory for reuse
+  /// instead (keep_freed_memory_for_short_job). Null (the tests): neither.
   char** reexec_argv = nullptr;
 };
 

@@ -1,5 +1,6 @@
 #include "api/process_env.h"
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -57,6 +58,13 @@ void reexec_with(const ProcessEnv& wanted, char** argv) {
   }
   setenv(kReexecuted, "1", 1);
   execv(self, argv);  // returns only on failure: then go on as we are
+}
+
+void keep_freed_memory_for_short_job() {
+  constexpr int kMmapThreshold = 32 << 20;  // glibc's largest dynamic threshold
+  constexpr int kTrimThreshold = 64 << 20;
+  mallopt(M_MMAP_THRESHOLD, kMmapThreshold);
+  mallopt(M_TRIM_THRESHOLD, kTrimThreshold);
 }
 
 }  // namespace seam::api
