@@ -9,65 +9,44 @@
 
 namespace seam::core {
 
-Result<std::vector<EdgeId>> compute_cut_graph(const HalfedgeMesh& mesh, const CancelToken& cancel) {
-  const Topology topo = compute_topology(mesh);
-  std::vector<std::uint8_t> needs(topo.components.size(), 0);
-  bool any = false;
-  for (std::size_t c = 0; c < topo.components.size(); ++c) {
-    needs[c] = topo.components[c].genus > 0 || topo.components[c].boundary_loops > 1;
-    any = any || needs[c];
-  }
-  if (!any) return std::vector<EdgeId>{};
+namespace {
 
-  SEAM_TRY(ConedMesh coned, cone_boundary_loops(mesh));
-  const HalfedgeMesh& closed = coned.mesh;
-  const std::size_t nv = closed.num_vertices();
-  const std::size_t nv_orig = coned.num_original_vertices;
-
-  // Component of every coned vertex (apexes take their loop's component).
-  auto component_of = [&](VertexId v) {
-    if (v.index() < nv_orig) return topo.vertex_component[v];
-    return topo.boundary_loop_component[v.index() - nv_orig];
-  };
-
+// One root per component that needs cutting: the apex of its first boundary loop, else its
+// smallest vertex.
+std::vector<VertexId> cut_roots(const Topology& topo, const ConedMesh& coned, const std::vector<std::uint8_t>& needs) {
   std::vector<VertexId> roots;
-  {
-    std::vector<std::uint8_t> has_root(topo.components.size(), 0);
-    for (std::size_t l = 0; l < topo.boundary_loops.size(); ++l) {
-      const std::uint32_t c = topo.boundary_loop_component[l];
-      if (needs[c] && !has_root[c]) {
-        has_root[c] = 1;
-        roots.push_back(coned.apexes[l]);
-      }
-    }
-    for (std::size_t v = 0; v < nv_orig; ++v) {
-      const std::uint32_t c = topo.vertex_component[VertexId(v)];
-      if (c != VertexId::kInvalidValue && needs[c] && !has_root[c]) {
-        has_root[c] = 1;
-        roots.push_back(VertexId(v));
-      }
+  std::vector<std::uint8_t> has_root(topo.components.size(), 0);
+  for (std::size_t l = 0; l < topo.boundary_loops.size(); ++l) {
+    const std::uint32_t c = topo.boundary_loop_component[l];
+    if (needs[c] && !has_root[c]) {
+      has_root[c] = 1;
+      roots.push_back(coned.apexes[l]);
     }
   }
-
-  const EdgeGraph graph = build_edge_graph(closed, coned.edge_weights);
-  SEAM_TRY(ShortestPathTree spt, dijkstra(graph, roots, {}, cancel));
-
-  const std::size_t ne = closed.num_edges();
-  std::vector<std::uint8_t> in_graph(ne, 0);  // T, then T plus leftover edges
-  for (std::size_t v = 0; v < nv; ++v) {
-    const HalfedgeId p = spt.parent[v];
-    if (p.valid()) in_graph[HalfedgeMesh::edge(p).index()] = 1;
+  for (std::size_t v = 0; v < coned.num_original_vertices; ++v) {
+    const std::uint32_t c = topo.vertex_component[VertexId(v)];
+    if (c != VertexId::kInvalidValue && needs[c] && !has_root[c]) {
+      has_root[c] = 1;
+      roots.push_back(VertexId(v));
+    }
   }
+  return roots;
+}
 
-  // Cotree: maximum spanning forest of the dual graph over the non-tree edges, heaviest
-  // loops first, so the leftover edges close the shortest loops (greedy homotopy basis).
+// Cotree: a maximum spanning forest of the dual graph over the edges not in the tree, heaviest
+// loops first, so the leftover edges (added to `in_graph`) close the shortest loops (greedy
+// homotopy basis). Only edges of components that need cutting take part.
+Status add_cotree_leftovers(const ConedMesh& coned, const ShortestPathTree& spt,
+                            const std::vector<std::uint8_t>& needs_vertex, std::vector<std::uint8_t>& in_graph,
+                            const CancelToken& cancel) {
+  const HalfedgeMesh& closed = coned.mesh;
   std::vector<std::uint32_t> candidates;
-  std::vector<double> loop_length(ne, 0.0);
-  for (std::size_t e = 0; e < ne; ++e) {
+  std::vector<double> loop_length(closed.num_edges(), 0.0);
+  for (std::size_t e = 0; e < closed.num_edges(); ++e) {
     if (in_graph[e]) continue;
     const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
     const VertexId a = closed.tail(h);
-    if (!spt.reached(a) || !needs[component_of(a)]) continue;
+    if (!spt.reached(a) || !needs_vertex[a.index()]) continue;
     const VertexId b = closed.head(h);
     loop_length[e] = spt.distance[a.index()] + spt.distance[b.index()] + coned.edge_weights[e];
     candidates.push_back(static_cast<std::uint32_t>(e));
@@ -91,19 +70,25 @@ Result<std::vector<EdgeId>> compute_cut_graph(const HalfedgeMesh& mesh, const Ca
       in_graph[e] = 1;  // leftover: closes a non-contractible loop
     }
   }
+  return Ok{};
+}
 
-  // Prune dangling tree branches; apexes stay so every boundary loop remains joined.
-  std::vector<std::uint32_t> degree(nv, 0);
-  for (std::size_t e = 0; e < ne; ++e) {
+// Removes dangling branches from `in_graph`: vertices of degree one, repeatedly, except the
+// apexes, so every boundary loop stays joined.
+Status prune_dangling(const ConedMesh& coned, std::vector<std::uint8_t>& in_graph, const CancelToken& cancel) {
+  const HalfedgeMesh& closed = coned.mesh;
+  std::vector<std::uint32_t> degree(closed.num_vertices(), 0);
+  for (std::size_t e = 0; e < closed.num_edges(); ++e) {
     if (!in_graph[e]) continue;
     const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
     ++degree[closed.tail(h).index()];
     ++degree[closed.head(h).index()];
   }
   std::vector<VertexId> stack;
-  for (std::size_t v = 0; v < nv; ++v) {
+  for (std::size_t v = 0; v < closed.num_vertices(); ++v) {
     if (degree[v] == 1 && !coned.is_apex(VertexId(v))) stack.push_back(VertexId(v));
   }
+  std::uint32_t polls = 0;
   while (!stack.empty()) {
     if (cancel.poll(polls)) return cancelled_error("cut graph");
     const VertexId v = stack.back();
@@ -118,9 +103,46 @@ Result<std::vector<EdgeId>> compute_cut_graph(const HalfedgeMesh& mesh, const Ca
       if (--degree[w.index()] == 1 && !coned.is_apex(w)) stack.push_back(w);
     });
   }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<std::vector<EdgeId>> compute_cut_graph(const HalfedgeMesh& mesh, const CancelToken& cancel) {
+  const Topology topo = compute_topology(mesh);
+  std::vector<std::uint8_t> needs(topo.components.size(), 0);
+  bool any = false;
+  for (std::size_t c = 0; c < topo.components.size(); ++c) {
+    needs[c] = topo.components[c].genus > 0 || topo.components[c].boundary_loops > 1;
+    any = any || needs[c];
+  }
+  if (!any) return std::vector<EdgeId>{};
+
+  SEAM_TRY(ConedMesh coned, cone_boundary_loops(mesh));
+  const HalfedgeMesh& closed = coned.mesh;
+  const std::size_t nv = closed.num_vertices();
+  const std::size_t nv_orig = coned.num_original_vertices;
+  // Whether each coned vertex's component needs cutting (apexes take their loop's component).
+  std::vector<std::uint8_t> needs_vertex(nv, 0);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::uint32_t c = v < nv_orig ? topo.vertex_component[VertexId(v)] : topo.boundary_loop_component[v - nv_orig];
+    needs_vertex[v] = c != VertexId::kInvalidValue && needs[c];
+  }
+
+  const EdgeGraph graph = build_edge_graph(closed, coned.edge_weights);
+  SEAM_TRY(ShortestPathTree spt, dijkstra(graph, cut_roots(topo, coned, needs), {}, cancel));
+  std::vector<std::uint8_t> in_graph(closed.num_edges(), 0);  // T, then T plus leftover edges
+  for (std::size_t v = 0; v < nv; ++v) {
+    const HalfedgeId p = spt.parent[v];
+    if (p.valid()) in_graph[HalfedgeMesh::edge(p).index()] = 1;
+  }
+  if (auto status = add_cotree_leftovers(coned, spt, needs_vertex, in_graph, cancel); !status.ok()) {
+    return status.take_error();
+  }
+  if (auto status = prune_dangling(coned, in_graph, cancel); !status.ok()) return status.take_error();
 
   std::vector<EdgeId> kept;
-  for (std::size_t e = 0; e < ne; ++e) {
+  for (std::size_t e = 0; e < closed.num_edges(); ++e) {
     if (in_graph[e] && !coned.is_virtual(EdgeId(e))) kept.push_back(EdgeId(e));
   }
   std::vector<VertexId> to_mesh(nv);

@@ -25,7 +25,8 @@ namespace seam::core {
 /// loop to them), and drop the virtual edges. Erickson–Har-Peled show that minimising over
 /// every root gives an O(log^2 g) approximation; one root is used here to stay near-linear.
 ///
-/// Preconditions: `mesh` came from build_halfedge_mesh. Errors: kCancelled.
+/// Preconditions: `mesh` came from build_halfedge_mesh. Errors: kCancelled; those of
+/// build_halfedge_mesh through cone_boundary_loops only if the precondition is broken.
 /// Complexity: O(E log V). Output sorted, unique, no boundary edges.
 Result<std::vector<EdgeId>> compute_cut_graph(const HalfedgeMesh& mesh,
                                               const CancelToken& cancel = CancelToken::none());

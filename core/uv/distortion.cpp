@@ -5,16 +5,29 @@
 
 namespace seam::core {
 
+namespace {
+
+// |(x, y)|. Squeezed charts reach entries of 1e-170, whose squares underflow, so the plain
+// square root is taken only where the sum of squares is far from both ends of the range
+// (then the smaller square, if it underflows, is below the larger one's rounding); hypot's
+// rescaling, which costs several times as much, everywhere else.
+double norm_2d(double x, double y) {
+  const double s = x * x + y * y;
+  if (s > 0x1p-960 && s < 0x1p960) return std::sqrt(s);
+  return std::hypot(x, y);
+}
+
+}  // namespace
+
 Svd2 svd_2x2(const Eigen::Matrix2d& j) {
   // j = [a b; c d] = Q + R with Q = [e -h; h e] (rotation-scale) and R = [f g; g -f]
   // (reflection-scale); |Q| and |R| give the singular values, their directions the rotations.
-  // hypot: squeezed charts reach entries of 1e-170, whose squares underflow.
   const double e = 0.5 * (j(0, 0) + j(1, 1));
   const double f = 0.5 * (j(0, 0) - j(1, 1));
   const double g = 0.5 * (j(1, 0) + j(0, 1));
   const double h = 0.5 * (j(1, 0) - j(0, 1));
-  const double q = std::hypot(e, h);
-  const double r = std::hypot(f, g);
+  const double q = norm_2d(e, h);
+  const double r = norm_2d(f, g);
   return {.s1 = q + r,
           .s2 = q - r,
           .rotation = q > 0 ? Vec2(e / q, h / q) : Vec2(1, 0),
