@@ -10,6 +10,7 @@
 #include "api/cli_common.h"
 #include "api/pipeline.h"
 #include "api/process_env.h"
+#include "core/uv/sparse_cholesky.h"
 #include "api/sample_mesh.h"
 
 namespace seam::api {
@@ -190,6 +191,7 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
     const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
     if (!ec && size >= kHugePageInputBytes) reexec_with(ProcessEnv{}, context.reexec_argv);
     if (!process_env_in_place(ProcessEnv{})) keep_freed_memory_for_short_job();  // not executed again
+    core::use_single_threaded_solvers();  // before the job starts threads of its own
   }
   auto bytes = cli::read_input(in_path, in);
   if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);

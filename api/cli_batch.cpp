@@ -16,6 +16,7 @@
 #include "api/cli_common.h"
 #include "api/pipeline.h"
 #include "api/process_env.h"
+#include "core/uv/sparse_cholesky.h"
 
 namespace seam::api {
 namespace {
@@ -314,7 +315,10 @@ int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const
   const unsigned cores = context.cores != 0 ? context.cores : std::max(1u, std::thread::hardware_concurrency());
   auto plan = plan_batch(args, cores);
   if (!plan.ok()) return cli::fail(err, plan.error(), 2);
-  if (context.reexec_argv != nullptr) reexec_with(ProcessEnv{}, context.reexec_argv);  // before any output exists
+  if (context.reexec_argv != nullptr) {
+    reexec_with(ProcessEnv{}, context.reexec_argv);  // before any output exists
+    core::use_single_threaded_solvers();              // before the workers start
+  }
   auto outputs = prepare_outputs(args);
   if (!outputs.ok()) return cli::fail(err, outputs.error(), 2);
   auto jobs = collect_jobs(args.positional, *outputs, plan->out_ext);

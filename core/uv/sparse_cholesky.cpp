@@ -16,6 +16,13 @@ void use_single_threaded_solvers() {
     // (threaded by default), the reference BLAS or another; only OpenBLAS has this hook.
     using SetThreads = void (*)(int);
     if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
+    // OpenBLAS started its pool when it was loaded (unless OPENBLAS_NUM_THREADS=1). With one
+    // thread the pool is never used, but its threads spin (sched_yield) for about 0.1 s after
+    // any start first, taking the second core from the job's own threads: the extrema's
+    // geodesic passes on homer took 15.7 instead of 12.4 ms. Stopped as OpenBLAS stops it
+    // before a fork; a threaded BLAS call would start it again.
+    using Shutdown = int (*)();
+    if (auto* stop = reinterpret_cast<Shutdown>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"))) stop();
   });
   // OpenMP's max-active-levels is an attribute of the calling thread's data environment: each
   // worker thread sets it once. With 0 levels every parallel region runs on one thread.

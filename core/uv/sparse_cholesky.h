@@ -11,7 +11,8 @@
 namespace seam::core {
 
 /// Makes the solvers run single-threaded in the calling thread: an optimized BLAS
-/// (OpenBLAS's openblas_set_num_threads(1), process-wide) and CHOLMOD's own OpenMP loops
+/// (OpenBLAS's openblas_set_num_threads(1), process-wide, and its thread pool stopped) and
+/// CHOLMOD's own OpenMP loops
 /// (omp_set_max_active_levels(0), a per-thread setting; Debian's CHOLMOD asks for 4 OpenMP
 /// threads per supernode whatever the machine has). Both hooks are looked up at run time and
 /// are no-ops where the BLAS or CHOLMOD is built without them. The server already runs one

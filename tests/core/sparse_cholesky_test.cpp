@@ -7,6 +7,8 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <iterator>
 #include <vector>
 
 #include "core/uv/sparse_cholesky.h"
@@ -126,6 +128,11 @@ TEST_CASE("OpenBLAS, when it is the BLAS, and CHOLMOD's OpenMP loops run single-
   using GetThreads = int (*)();
   if (auto* get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))) {
     CHECK(get() == 1);
+    // The pool OpenBLAS started when it was loaded is stopped: no thread of it is left to
+    // spin beside the job's own (this suite starts no thread that outlives its test case).
+    const auto tasks = std::distance(std::filesystem::directory_iterator("/proc/self/task"),
+                                     std::filesystem::directory_iterator());
+    CHECK(tasks == 1);
   } else {
     MESSAGE("the BLAS is not OpenBLAS: nothing to limit");
   }
