@@ -11,7 +11,12 @@
 //   machine (`bench/mesh_bench --job`, docs/uv.md): the weld stage at 1.2M faces 337 -> 151 ms,
 //   the whole default job at 312k faces 7.0 -> 5.3 s; peak RSS the same (935/937 MiB at 1.25M
 //   faces).
-// - Single-threaded BLAS (OPENBLAS_NUM_THREADS=1, the server only): see server/main.cpp.
+// - Single-threaded BLAS (OPENBLAS_NUM_THREADS=1): seamd runs BLAS on one thread anyway
+//   (core::use_single_threaded_solvers, which stops the pool OpenBLAS started when it was
+//   loaded), but with the variable set OpenBLAS starts no pool at all, and a pool stopped
+//   late leaves more memory behind: peak RSS of the default job at 1.25M faces 956 MiB with
+//   the pool stopped, 937 MiB without one. The server needs it for its signal handling too
+//   (server/main.cpp).
 //
 // A value the caller's environment already gives (any glibc.malloc.hugetlb, any
 // OPENBLAS_NUM_THREADS) is left as it is: setting `GLIBC_TUNABLES=glibc.malloc.hugetlb=0`
@@ -25,8 +30,8 @@
 namespace seam::api {
 
 struct ProcessEnv {
-  bool huge_page_malloc = true;       ///< GLIBC_TUNABLES: glibc.malloc.hugetlb=1
-  bool single_threaded_blas = false;  ///< OPENBLAS_NUM_THREADS=1
+  bool huge_page_malloc = true;      ///< GLIBC_TUNABLES: glibc.malloc.hugetlb=1
+  bool single_threaded_blas = true;  ///< OPENBLAS_NUM_THREADS=1
 };
 
 /// The GLIBC_TUNABLES value that adds glibc.malloc.hugetlb=1 to `current` (null: unset), or

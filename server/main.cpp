@@ -119,6 +119,6 @@ int main(int argc, char** argv) {
   // OPENBLAS_NUM_THREADS says 1 (seamd uses it single-threaded anyway): executed again with it
   // set, no thread exists that does not block the stop signals. The same start turns on
   // huge-page malloc (api/process_env.h).
-  seam::api::reexec_with({.huge_page_malloc = true, .single_threaded_blas = true}, argv);
+  seam::api::reexec_with(seam::api::ProcessEnv{}, argv);  // both settings
   return serve(argc, argv);
 }

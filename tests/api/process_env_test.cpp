@@ -63,13 +63,13 @@ TEST_CASE("process env: in place when every wanted setting is in the environment
     ScopedEnv tunables("GLIBC_TUNABLES", nullptr);
     ScopedEnv blas("OPENBLAS_NUM_THREADS", nullptr);
     CHECK_FALSE(process_env_in_place(both));
-    CHECK_FALSE(process_env_in_place(ProcessEnv{}));
+    CHECK_FALSE(process_env_in_place(ProcessEnv{}));  // both by default
     CHECK(process_env_in_place(none));
   }
   {
     ScopedEnv tunables("GLIBC_TUNABLES", "glibc.malloc.hugetlb=0");  // the caller turned them off
     ScopedEnv blas("OPENBLAS_NUM_THREADS", nullptr);
-    CHECK(process_env_in_place(ProcessEnv{}));
+    CHECK(process_env_in_place({.huge_page_malloc = true, .single_threaded_blas = false}));
     CHECK_FALSE(process_env_in_place(both));
   }
   {
