@@ -53,6 +53,12 @@ def main():
     k = sum((f - mx) * (p - my) for f, p in rows) / max(1e-9, sum((f - mx) ** 2 for f, _ in rows))
     base = my - k * mx
     print(f"fit: peak = {base / 2**20:.0f} MiB + {k:.0f} B x faces")
+    # Issue 14, item 4: the default job's peak at 1.25M faces <= 1.0 GB (10^9 B).
+    faces, peak = max(rows)
+    if faces >= 1_000_000:
+        ratio = peak / 1e9
+        print(f"peak at {faces} faces: {peak / 1e9:.3f} GB = {ratio:.3f} x the 1.0 GB target: "
+              f"{'met' if ratio <= 1.0 else 'missed'}")
     return 0
 
 
