@@ -146,6 +146,16 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
     if (auto e = cli::set_positional(args, "out", args.positional[1], "OUT")) return usage(err, *e);
   }
   if (args.own.count("in") == 0) return usage(err, cli::usage_error("in", "seam needs an input: seamd seam IN [OUT]"));
+  // The process's settings, before anything is read: a second start must find stdin (IN `-`,
+  // `--params @/dev/stdin`) and every file as the first one did.
+  if (context.reexec_argv != nullptr) {
+    const std::string& in_path = args.own["in"];
+    std::error_code ec;
+    const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
+    if (!ec && size >= kHugePageInputBytes) reexec_with(ProcessEnv{}, context.reexec_argv);
+    if (!process_env_in_place(ProcessEnv{})) keep_freed_memory_for_short_job();  // not executed again
+    core::use_single_threaded_solvers();  // before the job starts threads of its own
+  }
 
   json merged;
   auto params = cli::build_params(args, merged);
@@ -186,13 +196,6 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
   }
 
   const std::string& in_path = args.own["in"];
-  if (context.reexec_argv != nullptr) {
-    std::error_code ec;
-    const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
-    if (!ec && size >= kHugePageInputBytes) reexec_with(ProcessEnv{}, context.reexec_argv);
-    if (!process_env_in_place(ProcessEnv{})) keep_freed_memory_for_short_job();  // not executed again
-    core::use_single_threaded_solvers();  // before the job starts threads of its own
-  }
   auto bytes = cli::read_input(in_path, in);
   if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);
   auto asset = cli::load_asset(std::move(bytes).value(), in_path);

@@ -312,13 +312,15 @@ int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const
     out << "seamd " << context.version << "\n";
     return 0;
   }
+  // The process's settings before anything is read (`--params @/dev/stdin` must reach the
+  // second start unread) and before any output exists.
+  if (context.reexec_argv != nullptr) {
+    reexec_with(ProcessEnv{}, context.reexec_argv);
+    core::use_single_threaded_solvers();  // before the workers start
+  }
   const unsigned cores = context.cores != 0 ? context.cores : std::max(1u, std::thread::hardware_concurrency());
   auto plan = plan_batch(args, cores);
   if (!plan.ok()) return cli::fail(err, plan.error(), 2);
-  if (context.reexec_argv != nullptr) {
-    reexec_with(ProcessEnv{}, context.reexec_argv);  // before any output exists
-    core::use_single_threaded_solvers();              // before the workers start
-  }
   auto outputs = prepare_outputs(args);
   if (!outputs.ok()) return cli::fail(err, outputs.error(), 2);
   auto jobs = collect_jobs(args.positional, *outputs, plan->out_ext);

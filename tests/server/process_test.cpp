@@ -5,15 +5,19 @@
 #include <doctest/doctest.h>
 
 #include "api/gltf_writer.h"
+#include "api/process_env.h"
 #include "test_data.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <future>
 
 #include "seamd_process.h"
 
 #include <httplib.h>
+#include <nlohmann/json.hpp>
 
 using namespace seam::test_process;
 
@@ -156,4 +160,36 @@ TEST_CASE("seamd as a process: settings the caller gives are kept, and then it s
   REQUIRE_FALSE(env.empty());
   CHECK(has_entry(env, "GLIBC_TUNABLES=glibc.malloc.hugetlb=0"));
   CHECK_FALSE(has_name(env, "SEAMD_REEXECUTED"));
+}
+
+TEST_CASE("seamd seam executed again for a large input still reads --params from a pipe") {
+  // The armadillo as a GLB (~630 KB) is over api::kHugePageInputBytes, so `seamd seam` starts a second
+  // time; the parameters on stdin must reach that start unread (the first one read them and
+  // the second found the pipe empty before the fix).
+  auto glb = seam::api::write_plain_glb(seam::test_data::load_cgal("armadillo"));
+  REQUIRE(glb.ok());
+  REQUIRE(glb->size() >= seam::api::kHugePageInputBytes);
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("seamd_reexec_" + std::to_string(getpid()))).string();
+  std::filesystem::create_directories(dir);
+  const std::string in = dir + "/armadillo.glb";
+  const std::string out = dir + "/out.glb";
+  std::ofstream(in, std::ios::binary).write(glb->data(), static_cast<std::streamsize>(glb->size()));
+  // Without the settings in the environment, so that the second start happens.
+  const std::string command = "printf '{\"uv\": \"bff\"}' | env -u GLIBC_TUNABLES -u OPENBLAS_NUM_THREADS -u "
+                              "SEAMD_REEXECUTED " SEAMD_BINARY " seam " + in + " " + out + " --params @/dev/stdin";
+  std::FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::string summary;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) summary.append(buffer, n);
+  const int status = pclose(pipe);
+  CAPTURE(summary);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  const auto json = nlohmann::json::parse(summary, nullptr, false);
+  REQUIRE_FALSE(json.is_discarded());
+  CHECK(json["uv"]["method"] == "bff");
+  CHECK(std::filesystem::file_size(out) > 0);
+  std::filesystem::remove_all(dir);
 }
