@@ -787,6 +787,13 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
   if (auto r = read_targets(doc, prim, pw, limits, out); !r.ok()) return r.take_error();
   if (draco.mesh) {
     if (out.mode != 4) return malformed(pw + ": a Draco primitive must have mode TRIANGLES");
+    // The triangles index the Draco mesh's points, so every attribute has to have that many,
+    // also those the extension does not name (read from their accessors).
+    if (out.mesh.positions.size() != draco.mesh->num_points) {
+      return malformed(pw + ": POSITION has " + std::to_string(out.mesh.positions.size()) +
+                       " vertices but the Draco data has " + std::to_string(draco.mesh->num_points) +
+                       " (an attribute the extension does not name still needs the Draco mesh's vertex count)");
+    }
     out.mesh.triangles = draco.mesh->triangles;
   } else {
     SEAM_TRY(const std::vector<std::uint32_t> indices, read_indices(doc, prim, pw, out.mesh.positions.size(), limits));

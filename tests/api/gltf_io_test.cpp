@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 
@@ -442,4 +444,23 @@ TEST_CASE("glTF JSON nested 100,000 deep is a malformed asset in .gltf and GLB; 
   }
   const std::string at_65 = gltf_with_extras(std::string(64, '[') + std::string(64, ']'));
   CHECK(parse_asset(at_65, AssetKind::kGltfJson).error().code == ApiErrorCode::kMalformedAsset);
+}
+
+TEST_CASE("gltf: a Draco primitive whose POSITION comes from its accessor must have the Draco point count (gltf_fuzz reproducer)") {
+  // The extension names "[OSITION" instead of POSITION, so POSITION is read from its accessor
+  // (no bufferView: 41 zeros) while the triangles index the Draco mesh's 42 points. The reader
+  // returned triangles with index 41 for 41 vertices; the writer then wrote an asset that did
+  // not read back.
+  const std::string path = std::string(SEAM_SOURCE_DIR) + "/tests/fuzz/regressions/gltf/draco_position_from_accessor.glb";
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  ReadLimits limits;
+  auto doc = parse_asset(bytes, AssetKind::kAuto, limits);
+  REQUIRE(doc.ok());
+  auto prim = read_primitive(*doc, 0, 0, limits);
+  REQUIRE_FALSE(prim.ok());
+  CHECK(prim.error().code == ApiErrorCode::kMalformedAsset);
+  CAPTURE(prim.error().message);
+  CHECK(prim.error().message.find("41 vertices but the Draco data has 42") != std::string::npos);
 }
