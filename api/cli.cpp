@@ -10,8 +10,8 @@
 #include "api/cli_common.h"
 #include "api/pipeline.h"
 #include "api/process_env.h"
-#include "core/uv/sparse_cholesky.h"
 #include "api/sample_mesh.h"
+#include "core/uv/sparse_cholesky.h"
 
 namespace seam::api {
 
@@ -152,8 +152,11 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
     const std::string& in_path = args.own["in"];
     std::error_code ec;
     const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
-    if (!ec && size >= kHugePageInputBytes) reexec_with(ProcessEnv{}, context.reexec_argv);
-    if (!process_env_in_place(ProcessEnv{})) keep_freed_memory_for_short_job();  // not executed again
+    if (!ec && size >= kHugePageInputBytes) {
+      reexec_with(ProcessEnv{}, context.reexec_argv);
+    } else {
+      keep_freed_memory_for_short_job();  // not worth a second start
+    }
     core::use_single_threaded_solvers();  // before the job starts threads of its own
   }
 
