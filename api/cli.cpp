@@ -16,7 +16,7 @@
 namespace seam::api {
 
 // Defined in api/cli_batch.cpp.
-int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const CliContext& context);
+int run_batch(int argc, char** argv, std::istream& in, std::ostream& out, std::ostream& err, const CliContext& context);
 
 namespace {
 
@@ -41,7 +41,7 @@ seam flags
                          the mesh index: --mesh-index)
   --out FILE             the same as OUT (kept for existing scripts)
   --report FILE          write the JSON summary to FILE instead of stdout
-  --params JSON|@FILE    API parameters as the HTTP JSON body's object (or read from FILE);
+  --params JSON|@FILE    API parameters as the HTTP JSON body's object (or read from FILE, @- stdin);
                          flags override it key by key
   --threads N            threads for the job (default: every core)
   -h, --help             this text on stdout, exit 0
@@ -160,8 +160,11 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
     core::use_single_threaded_solvers();  // before the job starts threads of its own
   }
 
+  if (args.own["in"] == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
+    return usage(err, cli::usage_error("params", "stdin cannot be both IN and --params @-"));
+  }
   json merged;
-  auto params = cli::build_params(args, merged);
+  auto params = cli::build_params(args, merged, in);
   if (!params.ok()) return usage(err, params.error());
   PipelineLimits limits;
   limits.threads = context.cores;
@@ -194,10 +197,6 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
                                                 "or give an OUT file"));
     }
   }
-  if (args.own["in"] == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
-    return usage(err, cli::usage_error("params", "stdin cannot be both IN and --params @-"));
-  }
-
   const std::string& in_path = args.own["in"];
   auto bytes = cli::read_input(in_path, in);
   if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);
@@ -244,7 +243,7 @@ int run_cli(int argc, char** argv, std::istream& in, std::ostream& out, std::ost
   const std::string command = argv[0];
   if (command == "--version") return print_version(out, context);
   if (command == "seam") return run_seam(argc, argv, in, out, err, context);
-  if (command == "batch") return run_batch(argc, argv, out, err, context);
+  if (command == "batch") return run_batch(argc, argv, in, out, err, context);
   if (command == "sample") return run_sample(argc, argv, out, err, context);
   return usage(err, cli::usage_error("command", "unknown command " + command + " (seam, batch, sample)"));
 }

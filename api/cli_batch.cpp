@@ -115,11 +115,11 @@ struct BatchPlan {
   PipelineLimits limits;
 };
 
-ApiResult<BatchPlan> plan_batch(cli::ParsedArgs& args, unsigned cores) {
+ApiResult<BatchPlan> plan_batch(cli::ParsedArgs& args, unsigned cores, std::istream& in) {
   if (args.positional.empty()) return with_usage_hint(cli::usage_error("in", "batch needs files or folders"));
   if (args.own.count("out_dir") == 0) return with_usage_hint(cli::usage_error("out_dir", "batch needs --out-dir DIR"));
   BatchPlan plan;
-  auto params = cli::build_params(args, plan.merged);
+  auto params = cli::build_params(args, plan.merged, in);
   if (!params.ok()) return with_usage_hint(params.error());
   plan.params = std::move(params).value();
   const bool json_output = plan.merged.contains("output") && plan.params.output == OutputFormat::kJson;
@@ -298,7 +298,8 @@ json batch_report(const std::vector<Job>& jobs, const BatchRun& run, const Batch
 
 }  // namespace
 
-int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const CliContext& context) {
+int run_batch(int argc, char** argv, std::istream& in, std::ostream& out, std::ostream& err,
+              const CliContext& context) {
   auto parsed = cli::parse_args(argc, argv,
                                 {{"--out-dir", "out_dir"}, {"--workers", "workers"}, {"--threads", "threads"},
                                  {"--report", "report"}, {"--params", "params"}});
@@ -319,7 +320,7 @@ int run_batch(int argc, char** argv, std::ostream& out, std::ostream& err, const
     core::use_single_threaded_solvers();  // before the workers start
   }
   const unsigned cores = context.cores != 0 ? context.cores : std::max(1u, std::thread::hardware_concurrency());
-  auto plan = plan_batch(args, cores);
+  auto plan = plan_batch(args, cores, in);
   if (!plan.ok()) return cli::fail(err, plan.error(), 2);
   auto outputs = prepare_outputs(args);
   if (!outputs.ok()) return cli::fail(err, outputs.error(), 2);

@@ -283,11 +283,16 @@ std::optional<ApiError> set_positional(ParsedArgs& args, const std::string& cano
   return std::nullopt;
 }
 
-ApiResult<SeamParams> build_params(const ParsedArgs& args, json& merged) {
+ApiResult<SeamParams> build_params(const ParsedArgs& args, json& merged, std::istream& in) {
   merged = json::object();
   if (const auto it = args.own.find("params"); it != args.own.end()) {
     std::string text = it->second;
-    if (!text.empty() && text[0] == '@') {
+    if (text == "@-") {
+      std::ostringstream ss;
+      ss << in.rdbuf();
+      if (in.bad()) return usage_error("params", "--params: cannot read stdin");
+      text = ss.str();
+    } else if (!text.empty() && text[0] == '@') {
       const std::string path = text.substr(1);
       std::ifstream file(path, std::ios::binary);
       if (!file) return usage_error("params", "--params: cannot read " + path + ": " + errno_text());

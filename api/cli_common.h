@@ -48,11 +48,12 @@ ApiResult<ParsedArgs> parse_args(int argc, char** argv, const std::vector<OwnFla
 std::optional<ApiError> set_positional(ParsedArgs& args, const std::string& canonical, const std::string& value,
                                        const std::string& what);
 
-/// The parameters: `--params JSON|@file` (own["params"]) with the parameter flags laid over
-/// it, then params_from_json, the one parameter parser. `merged` receives the JSON it parsed.
-/// Errors: kInvalidParameter (unreadable @file, not a JSON object, anything
+/// The parameters: `--params JSON|@FILE|@-` (own["params"]; `@-` reads `in`, the process's
+/// stdin) with the parameter flags laid over it, then params_from_json, the one parameter
+/// parser. `merged` receives the JSON it parsed.
+/// Errors: kInvalidParameter (unreadable @FILE, not a JSON object, anything
 /// params_from_json refuses; the message names the flag that set the key).
-ApiResult<SeamParams> build_params(const ParsedArgs& args, nlohmann::json& merged);
+ApiResult<SeamParams> build_params(const ParsedArgs& args, nlohmann::json& merged, std::istream& in);
 
 /// Parses a positive integer flag value (`--workers`, `--threads`).
 /// Errors: kInvalidParameter (not an integer from 1 to 4096), details.parameter = `flag`.

@@ -358,7 +358,7 @@ TEST_CASE("every parameter flag maps onto the HTTP parameter JSON") {
   }
 }
 
-TEST_CASE("--params JSON|@file is the HTTP parameter object; flags override it key by key") {
+TEST_CASE("--params JSON|@file|@- is the HTTP parameter object; flags override it key by key") {
   TempDir dir("params");
   const std::string off = seam::test_data::cgal_mesh_path("hand");
   const json params = {{"uv", "none"}, {"method", "mst"}, {"extrema", {3, 30, 300}}, {"refine", false}};
@@ -372,6 +372,14 @@ TEST_CASE("--params JSON|@file is the HTTP parameter object; flags override it k
   const auto from_file = run({"seam", off, "--params", "@" + dir / "p.json"});
   REQUIRE_MESSAGE(from_file.code == 0, from_file.err);
   CHECK(stable(json::parse(from_file.out)) == stable(expected.body));
+
+  // @- reads the parameters from stdin; stdin cannot also be IN.
+  const auto from_stdin = run({"seam", off, "--params", "@-"}, params.dump());
+  REQUIRE_MESSAGE(from_stdin.code == 0, from_stdin.err);
+  CHECK(stable(json::parse(from_stdin.out)) == stable(expected.body));
+  const auto both = run({"seam", "-", "--params", "@-"}, params.dump());
+  CHECK(both.code == 2);
+  CHECK(error_of(both)["message"].get<std::string>().find("stdin cannot be both") != std::string::npos);
 
   // --method and --extrema win over the file's.
   const auto overridden = run({"seam", off, "--params=@" + dir / "p.json", "--method", "greedy", "--extrema", "4,40"});
