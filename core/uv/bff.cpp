@@ -230,7 +230,13 @@ Result<std::vector<Vec2>> extend_inside(const DiscPatch& patch, const BffIndex& 
 
 }  // namespace
 
-Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel) {
+Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel,
+                                      std::span<const int> vertex_order) {
+  if (!vertex_order.empty() && vertex_order.size() != patch.num_vertices()) {
+    return make_error(ErrorCode::kInvalidArgument, "BFF: the vertex order has " + std::to_string(vertex_order.size()) +
+                                                       " entries for " + std::to_string(patch.num_vertices()) +
+                                                       " vertices");
+  }
   const BffIndex index = index_vertices(patch);
   SEAM_TRY(const std::vector<double> angle_sum, angle_sums(patch, cancel));
   const SplitLaplacian a = split_laplacian(patch, index);
@@ -240,6 +246,7 @@ Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken&
   // the default job's peak memory depends on (sparse_cholesky.h).
   SparseCholesky solver;
   solver.prefer_nested_dissection();
+  if (!vertex_order.empty()) solver.use_order(restrict_order(vertex_order, index.interior));
   SEAM_TRY(const Eigen::VectorXd target_k, target_exterior_angles(patch, index, a, angle_sum, solver, cancel));
   SEAM_TRY(const std::vector<Vec2> curve, boundary_curve(patch, target_k));
   return extend_inside(patch, index, a, curve, solver, cancel);

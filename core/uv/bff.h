@@ -1,6 +1,7 @@
 // Boundary First Flattening, free boundary with u = 0 (Sawhney & Crane 2017).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "core/cancel.h"
@@ -22,7 +23,14 @@ namespace seam::core {
 ///    keeps the boundary exactly).
 /// Steps 1 and 4 reuse ONE Cholesky factorization of A_II.
 /// Returns one UV per local vertex, counter-clockwise, at 3D scale (not yet fitted).
-/// Errors: kSolverFailed, kCancelled. Complexity: one sparse Cholesky of A_II plus 3 solves.
-Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel);
+/// `vertex_order`, when not empty, is a fill-reducing order of the patch's vertices (e.g.
+/// nested_dissection_order of its vertex graph, shared with SLIM's proxy): A_II is factored in
+/// that order restricted to the interior instead of ordering it anew (nested dissection from
+/// SparseCholesky::kNestedDissectionMin unknowns, AMD below). Precondition: empty or a
+/// permutation of the patch's vertices.
+/// Errors: kInvalidArgument (a vertex_order of another size), kSolverFailed, kCancelled. Complexity: one sparse
+/// Cholesky of A_II plus 3 solves.
+Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken& cancel,
+                                      std::span<const int> vertex_order = {});
 
 }  // namespace seam::core

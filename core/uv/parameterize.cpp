@@ -7,13 +7,14 @@
 #include <string>
 
 #include "core/atlas/overlap.h"
+#include "core/mesh/topology.h"
 #include "core/uv/arap.h"
-#include "core/uv/collision.h"
 #include "core/uv/bff.h"
-#include "core/uv/slim.h"
+#include "core/uv/collision.h"
 #include "core/uv/distortion.h"
 #include "core/uv/lscm.h"
-#include "core/mesh/topology.h"
+#include "core/uv/slim.h"
+#include "core/uv/sparse_cholesky.h"
 #include "core/uv/uv_patch.h"
 
 namespace seam::core {
@@ -33,6 +34,29 @@ const char* uv_method_name(UvMethod method) {
 }
 
 namespace {
+
+// BFF's A_II and SLIM's proxy are systems on one vertex graph (the interior, and every vertex
+// but the pinned one): on large charts one nested dissection of the whole graph serves both
+// (sparse_cholesky.h), so METIS runs once per chart instead of twice (at 1M faces about 2.6 s
+// of SLIM's 3.1 s analysis). Empty below the size where the solvers would pick AMD anyway.
+std::vector<int> shared_vertex_order(const DiscPatch& patch) {
+  const auto n = static_cast<Eigen::Index>(patch.num_vertices());
+  if (n < SparseCholesky::kNestedDissectionMin) return {};
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(3 * patch.triangles.size() + patch.num_vertices());
+  for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, 1.0);
+  for (const Triangle& tri : patch.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<Eigen::Index>(tri[k]);
+      const auto b = static_cast<Eigen::Index>(tri[(k + 1) % 3]);
+      entries.emplace_back(std::max(a, b), std::min(a, b), 1.0);
+    }
+  }
+  Eigen::SparseMatrix<double> lower(n, n);
+  lower.setFromTriplets(entries.begin(), entries.end());
+  entries = {};
+  return nested_dissection_order(lower);
+}
 
 double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
   const Vec2 u = b - a;
@@ -156,12 +180,14 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
         break;
       }
       case UvMethod::kSlim: {
-        SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel));
+        const std::vector<int> order = shared_vertex_order(patch);
+        SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel, order));
         repair_flips(patch, start_uv);
         SEAM_TRY(SlimResult slim, flatten_slim(patch, std::move(start_uv),
                                                {.iterations = options.slim_iterations,
                                                 .proxy = options.slim_proxy,
-                                                .injective = options.injective},
+                                                .injective = options.injective,
+                                                .vertex_order = order},
                                                cancel));
         if (slim.overlapping_start) ++result.overlapping_starts;
         uv = std::move(slim.uv);

@@ -198,7 +198,8 @@ void proxy_weights(const Eigen::Matrix2d& j, double cap, Eigen::Matrix2d& m, Eig
 // factorization is done once.
 class ProxySystem {
  public:
-  ProxySystem(const DiscPatch& patch, int block) : patch_(patch), block_(block), per_triangle_(3 * block * block) {
+  ProxySystem(const DiscPatch& patch, int block, std::span<const int> vertex_order)
+      : patch_(patch), block_(block), per_triangle_(3 * block * block) {
     const auto nfree = static_cast<Eigen::Index>(block * (patch.num_vertices() - 1));
     system_.resize(nfree, nfree);
     std::vector<Eigen::Triplet<double>> pattern;
@@ -229,6 +230,7 @@ class ProxySystem {
     // One analysis, one factorization per step (and per held-vertex re-solve): nested
     // dissection's cheaper factorizations repay its dearer analysis (sparse_cholesky.h).
     solver_.prefer_nested_dissection();
+    if (!vertex_order.empty()) solver_.use_order(unknown_order(vertex_order));
     solver_.analyzePattern(system_);
   }
 
@@ -333,6 +335,18 @@ class ProxySystem {
 
  private:
   Eigen::Index unknown(std::uint32_t v, int c) const { return static_cast<Eigen::Index>(block_ * (v - 1) + c); }
+
+  // An order of the vertices as an order of the unknowns: the pinned vertex dropped, a
+  // vertex's u and v (2x2 blocks) adjacent.
+  std::vector<int> unknown_order(std::span<const int> vertex_order) const {
+    std::vector<int> order;
+    order.reserve(static_cast<std::size_t>(block_) * vertex_order.size());
+    for (int v : vertex_order) {
+      if (v == 0) continue;
+      for (int c = 0; c < block_; ++c) order.push_back(static_cast<int>(unknown(static_cast<std::uint32_t>(v), c)));
+    }
+    return order;
+  }
   // Component c of vertex v in a matrix laid out like the right-hand side.
   double& at(Eigen::MatrixXd& m, std::uint32_t v, int c) const {
     return block_ == 2 ? m(unknown(v, c), 0) : m(unknown(v, 0), c);
@@ -802,6 +816,11 @@ Status validate(std::size_t n, const std::vector<Vec2>& initial, const SlimOptio
   if (!(options.tolerance >= 0 && options.tolerance <= 1)) {
     return make_error(ErrorCode::kInvalidArgument, "SLIM: tolerance must be in 0..1");
   }
+  if (!options.vertex_order.empty() && options.vertex_order.size() != n) {
+    return make_error(ErrorCode::kInvalidArgument, "SLIM: the vertex order has " +
+                                                       std::to_string(options.vertex_order.size()) + " entries for " +
+                                                       std::to_string(n) + " vertices");
+  }
   return Ok{};
 }
 
@@ -885,7 +904,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
               .gap = 1e-4 * std::sqrt(area_3d),
               .result = result,
               .energy = result.energy_start,
-              .proxy = ProxySystem(patch, options.proxy == SlimProxy::kAnisotropic ? 2 : 1),
+              .proxy = ProxySystem(patch, options.proxy == SlimProxy::kAnisotropic ? 2 : 1, options.vertex_order),
               .trial = std::vector<Vec2>(n)};
     lap(result.timings.analyze_ms, clock);
     if (!descend(d, cancel)) return cancelled_error("SLIM");

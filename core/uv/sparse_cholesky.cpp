@@ -78,6 +78,49 @@ std::vector<std::pair<int, double>> SparseCholesky::half_solve_sparse(std::span<
   return y;
 }
 
+void SparseCholesky::analyze_with_order(const Eigen::SparseMatrix<double>& matrix) {
+  if (m_cholmodFactor != nullptr) {
+    cholmod_free_factor(&m_cholmodFactor, &cholmod());
+    m_cholmodFactor = nullptr;
+  }
+  cholmod().nmethods = 1;
+  cholmod().method[0].ordering = CHOLMOD_GIVEN;
+  cholmod().postorder = 1;
+  cholmod_sparse a = Eigen::viewAsCholmod(matrix.selfadjointView<Eigen::Lower>());
+  m_cholmodFactor = cholmod_analyze_p(&a, order_.data(), nullptr, 0, &cholmod());
+  m_isInitialized = true;
+  m_info = m_cholmodFactor != nullptr ? Eigen::Success : Eigen::NumericalIssue;
+  m_analysisIsOk = m_cholmodFactor != nullptr;
+  m_factorizationIsOk = false;
+}
+
+std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& lower) {
+  if (lower.rows() == 0 || lower.rows() != lower.cols()) return {};
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  Eigen::SparseMatrix<double> compressed = lower;
+  compressed.makeCompressed();
+  const Eigen::SparseMatrix<double>& view = compressed;
+  cholmod_sparse a = Eigen::viewAsCholmod(view.selfadjointView<Eigen::Lower>());
+  std::vector<int> order(static_cast<std::size_t>(lower.rows()));
+  const int ok = cholmod_metis(&a, nullptr, 0, 1, order.data(), &common);
+  cholmod_finish(&common);
+  if (!ok) return {};
+  return order;
+}
+
+std::vector<int> restrict_order(std::span<const int> order, std::span<const Eigen::Index> unknown_of) {
+  SEAM_ASSERT(unknown_of.size() == order.size());
+  std::vector<int> restricted;
+  restricted.reserve(order.size());
+  for (int item : order) {
+    const Eigen::Index unknown = unknown_of[static_cast<std::size_t>(item)];
+    if (unknown >= 0) restricted.push_back(static_cast<int>(unknown));
+  }
+  return restricted;
+}
+
 bool SparseCholesky::supernodal() const { return m_cholmodFactor != nullptr && m_cholmodFactor->is_super != 0; }
 
 }  // namespace seam::core

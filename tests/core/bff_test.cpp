@@ -74,6 +74,23 @@ TEST_CASE("BFF flattens a curved cap conformally, better on a finer mesh") {
   }
 }
 
+TEST_CASE("BFF in a given vertex order (shared with SLIM) maps as in its own, and refuses an order of another size") {
+  const DiscPatch patch = fx::patch_of(fx::dome(0.6, 12, 48));
+  auto own = flatten_bff(patch, CancelToken::none());
+  REQUIRE(own.ok());
+  // Any permutation of the vertices is a valid order; a reversed one changes the factor, not the map.
+  std::vector<int> reversed(patch.num_vertices());
+  for (std::size_t v = 0; v < reversed.size(); ++v) reversed[v] = static_cast<int>(reversed.size() - 1 - v);
+  auto ordered = flatten_bff(patch, CancelToken::none(), reversed);
+  REQUIRE(ordered.ok());
+  REQUIRE(ordered->size() == own->size());
+  double worst = 0;
+  for (std::size_t v = 0; v < own->size(); ++v) worst = std::max(worst, ((*ordered)[v] - (*own)[v]).norm());
+  CHECK(worst < 1e-9);
+  reversed.pop_back();
+  CHECK(flatten_bff(patch, CancelToken::none(), reversed).error().code == ErrorCode::kInvalidArgument);
+}
+
 TEST_CASE("BFF stops with kCancelled when cancelled") {
   fx::check_stops_when_cancelled([](const DiscPatch& patch, const CancelToken& token) { return flatten_bff(patch, token); });
 }

@@ -132,9 +132,33 @@ TEST_CASE("SLIM refuses bad arguments and stops when cancelled") {
         ErrorCode::kInvalidArgument);
   CHECK(flatten_slim(patch, start, {.tolerance = std::nan("")}, CancelToken::none()).error().code ==
         ErrorCode::kInvalidArgument);
+  const std::vector<int> short_order(patch.num_vertices() - 1, 0);
+  CHECK(flatten_slim(patch, start, {.vertex_order = short_order}, CancelToken::none()).error().code ==
+        ErrorCode::kInvalidArgument);
   CancelToken token;
   token.cancel();
   CHECK(flatten_slim(patch, start, {}, token).error().code == ErrorCode::kCancelled);
+}
+
+TEST_CASE("SLIM's proxy in a given vertex order takes the same steps as in its own") {
+  const DiscPatch patch = fx::patch_of(fx::dome(0.8));
+  const std::vector<Vec2> start = bff_start(patch);
+  std::vector<int> reversed(patch.num_vertices());
+  for (std::size_t v = 0; v < reversed.size(); ++v) reversed[v] = static_cast<int>(reversed.size() - 1 - v);
+  for (SlimProxy proxy : {SlimProxy::kIsotropic, SlimProxy::kAnisotropic}) {
+    CAPTURE(static_cast<int>(proxy));
+    auto own = flatten_slim(patch, start, {.iterations = 10, .tolerance = 0, .proxy = proxy}, CancelToken::none());
+    auto ordered =
+        flatten_slim(patch, start, {.iterations = 10, .tolerance = 0, .proxy = proxy, .vertex_order = reversed},
+                     CancelToken::none());
+    REQUIRE(own.ok());
+    REQUIRE(ordered.ok());
+    CHECK(ordered->iterations == own->iterations);
+    CHECK(ordered->energy_end == doctest::Approx(own->energy_end).epsilon(1e-9));
+    double worst = 0;
+    for (std::size_t v = 0; v < own->uv.size(); ++v) worst = std::max(worst, (ordered->uv[v] - own->uv[v]).norm());
+    CHECK(worst < 1e-7);
+  }
 }
 
 namespace {
