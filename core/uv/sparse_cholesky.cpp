@@ -8,6 +8,38 @@
 #include "core/error.h"
 
 namespace seam::core {
+namespace {
+
+// Set by use_single_threaded_solvers() in each thread that runs solvers: OpenMP regions that
+// thread starts are inactive (max-active-levels 0), so GOMP_parallel below runs them inline.
+thread_local bool serial_openmp_regions = false;
+
+}  // namespace
+}  // namespace seam::core
+
+// libgomp runs an inactive parallel region (max-active-levels 0, as every solver thread here
+// sets) on the calling thread, yet still builds a team of one for it and ends it with a futex
+// wake-up, a system call. CHOLMOD's supernodal factorization opens a region per supernode
+// update: 1.3M of them for two factorizations of a 533k-unknown Laplacian, which on this
+// service's VMs (system calls trap to the hypervisor) took half their time (3.0-4.1 s against
+// 1.5-1.6 s each; docs/uv.md). The executable defines the symbol (exported by
+// core/CMakeLists.txt), so the dynamic linker binds CHOLMOD's calls here: in a solver thread
+// the region's body runs directly, as one thread would run it (CHOLMOD's regions are static
+// loops: omp_get_num_threads() = 1, omp_get_thread_num() = 0 give the whole range); any other
+// thread gets libgomp's own GOMP_parallel, so OpenMP parallelism elsewhere is untouched.
+extern "C" __attribute__((visibility("default"))) void GOMP_parallel(void (*fn)(void*), void* data,
+                                                                     unsigned num_threads, unsigned flags) {
+  if (seam::core::serial_openmp_regions) {
+    fn(data);
+    return;
+  }
+  using Parallel = void (*)(void (*)(void*), void*, unsigned, unsigned);
+  static const auto next = reinterpret_cast<Parallel>(dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0"));
+  SEAM_ASSERT(next != nullptr);  // only OpenMP code calls this, and libgomp defines it
+  next(fn, data, num_threads, flags);
+}
+
+namespace seam::core {
 
 void use_single_threaded_solvers() {
   static std::once_flag once;
@@ -26,9 +58,8 @@ void use_single_threaded_solvers() {
   });
   // OpenMP's max-active-levels is an attribute of the calling thread's data environment: each
   // worker thread sets it once. With 0 levels every parallel region runs on one thread.
-  thread_local bool done = false;
-  if (done) return;
-  done = true;
+  if (serial_openmp_regions) return;
+  serial_openmp_regions = true;
   using SetLevels = void (*)(int);
   if (auto* set = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
 }

@@ -2,7 +2,7 @@
 // solves SPD systems to round-off with either kind, reports non-SPD input through info() with
 // either kind, reuses a symbolic analysis, orders by nested dissection on request (less fill on
 // a grid) from a size on or in an order given (one nested dissection restricted to subsystems),
-// and keeps BLAS and CHOLMOD's OpenMP loops single-threaded.
+// keeps BLAS and CHOLMOD's OpenMP loops single-threaded and runs those loops inline.
 #include "core/uv/sparse_cholesky.h"
 
 #include <dlfcn.h>
@@ -11,7 +11,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <iterator>
+#include <mutex>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 using seam::core::SparseCholesky;
@@ -143,6 +145,57 @@ TEST_CASE("OpenBLAS, when it is the BLAS, and CHOLMOD's OpenMP loops run single-
   } else {
     MESSAGE("CHOLMOD is built without OpenMP: nothing to limit");
   }
+}
+
+namespace {
+
+using Parallel = void (*)(void (*)(void*), void*, unsigned, unsigned);
+
+// A region body that records how many times it ran, on which threads, and the team it saw
+// through the OpenMP calls CHOLMOD's static loops make.
+struct RegionLog {
+  std::mutex mutex;
+  std::vector<std::thread::id> threads;
+  std::vector<int> team_sizes;
+};
+
+void record_region(void* data) {
+  auto* log = static_cast<RegionLog*>(data);
+  using Query = int (*)();
+  const auto num_threads = reinterpret_cast<Query>(dlsym(RTLD_DEFAULT, "omp_get_num_threads"));
+  std::lock_guard lock(log->mutex);
+  log->threads.push_back(std::this_thread::get_id());
+  log->team_sizes.push_back(num_threads != nullptr ? num_threads() : -1);
+}
+
+}  // namespace
+
+TEST_CASE("in a solver thread an OpenMP region runs inline once; other threads keep libgomp's teams") {
+  // The dynamic linker binds GOMP_parallel to the executable's definition (core/CMakeLists.txt
+  // exports it), which CHOLMOD's calls then reach.
+  auto* ours = reinterpret_cast<Parallel>(dlsym(RTLD_DEFAULT, "GOMP_parallel"));
+  auto* libgomp = reinterpret_cast<Parallel>(dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0"));
+  REQUIRE(reinterpret_cast<void*>(ours) != nullptr);
+  if (libgomp == nullptr) {
+    MESSAGE("libgomp is not loaded (CHOLMOD built without OpenMP): nothing to run inline");
+    return;
+  }
+  CHECK(reinterpret_cast<void*>(ours) != reinterpret_cast<void*>(libgomp));
+
+  // A solver thread: one run, on the calling thread, in a team of one.
+  seam::core::use_single_threaded_solvers();
+  RegionLog inline_log;
+  ours(record_region, &inline_log, 4, 0);
+  REQUIRE(inline_log.threads.size() == 1);
+  CHECK(inline_log.threads[0] == std::this_thread::get_id());
+  CHECK(inline_log.team_sizes[0] == 1);
+
+  // A thread that never asked for single-threaded solvers gets a real team of two.
+  RegionLog team_log;
+  std::thread other([&] { ours(record_region, &team_log, 2, 0); });
+  other.join();
+  CHECK(team_log.threads.size() == 2);
+  CHECK(std::count(team_log.team_sizes.begin(), team_log.team_sizes.end(), 2) == 2);
 }
 
 TEST_CASE("one nested dissection, restricted to subsets of the unknowns, orders each system") {
