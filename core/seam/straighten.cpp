@@ -140,16 +140,19 @@ double topology_length(const HalfedgeMesh& mesh, std::span<const double> edge_we
   return total;
 }
 
-Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                       std::span<const EdgeId> skeleton_edges,
-                                       std::span<const VertexId> terminals,
-                                       std::span<const double> edge_weights, const CancelToken& cancel) {
-  const std::size_t nv = mesh.num_vertices();
-  const std::size_t k = terminals.size();
-  std::vector<std::int32_t> terminal_of(nv, -1);
-  for (std::size_t i = 0; i < k; ++i) terminal_of[terminals[i].index()] = static_cast<std::int32_t>(i);
+namespace {
 
-  // A spanning forest of the skeleton, lightest edges first (a cycle loses its heaviest edge).
+// A spanning forest of the skeleton, lightest edges first (a cycle loses its heaviest edge),
+// and of it only the pieces that touch a terminal. `pieces` is the forest's union-find, which
+// joining the pieces goes on extending.
+struct TerminalForest {
+  std::vector<EdgeId> edges;
+  UnionFind pieces;
+};
+
+TerminalForest terminal_forest(const HalfedgeMesh& mesh, std::span<const EdgeId> skeleton_edges,
+                               std::span<const VertexId> terminals, std::span<const double> edge_weights) {
+  const std::size_t nv = mesh.num_vertices();
   std::vector<EdgeId> sorted(skeleton_edges.begin(), skeleton_edges.end());
   std::sort(sorted.begin(), sorted.end(), [&](EdgeId a, EdgeId b) {
     const double wa = edge_weight(mesh, edge_weights, HalfedgeMesh::halfedge(a));
@@ -162,14 +165,25 @@ Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph
     const HalfedgeId h = HalfedgeMesh::halfedge(e);
     if (uf.unite(mesh.tail(h).value(), mesh.head(h).value())) forest.push_back(e);
   }
-  // Keep the pieces that touch a terminal, then join them (and terminals the skeleton
-  // missed) to the piece of terminal 0 by terminal-avoiding shortest paths.
   std::vector<std::uint8_t> root_has_terminal(nv, 0);
   for (VertexId t : terminals) root_has_terminal[uf.find(t.value())] = 1;
   std::vector<EdgeId> kept;
   for (EdgeId e : forest) {
     if (root_has_terminal[uf.find(mesh.tail(HalfedgeMesh::halfedge(e)).value())]) kept.push_back(e);
   }
+  return TerminalForest{std::move(kept), std::move(uf)};
+}
+
+// Joins the forest's other pieces (and terminals the skeleton missed) to the piece of
+// terminal 0, one nearest piece at a time, by terminal-avoiding shortest paths.
+Result<std::vector<EdgeId>> join_to_first_terminal(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                                   std::span<const VertexId> terminals,
+                                                   const std::vector<std::int32_t>& terminal_of, TerminalForest forest,
+                                                   const CancelToken& cancel) {
+  const std::size_t nv = mesh.num_vertices();
+  const std::size_t k = terminals.size();
+  UnionFind& uf = forest.pieces;
+  std::vector<EdgeId>& kept = forest.edges;
   PathSearch search(graph);
   for (VertexId t : terminals) search.block(t);
   for (int guard = 0; guard < static_cast<int>(k); ++guard) {
@@ -209,24 +223,38 @@ Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph
       if (uf.unite(mesh.tail(h).value(), mesh.head(h).value())) kept.push_back(HalfedgeMesh::edge(h));
     }
   }
-  kept = prune_dangling(mesh, std::move(kept), terminals);
+  return std::move(kept);
+}
 
-  // Nodes: terminals first, then vertices of degree >= 3; branches are walked between them.
+// The tree as nodes and branches, before inner terminals are made leaves; `node_of` gives
+// each node's index per vertex (-1: not a node).
+struct WalkedTopology {
+  TreeTopology topology;
+  std::vector<std::int32_t> node_of;
+};
+
+// Nodes: terminals first, then vertices of degree >= 3; branches are walked between them.
+WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> tree,
+                             std::span<const VertexId> terminals) {
+  const std::size_t nv = mesh.num_vertices();
+  const std::size_t k = terminals.size();
   std::vector<std::vector<HalfedgeId>> out(nv);
-  for (EdgeId e : kept) {
+  for (EdgeId e : tree) {
     const HalfedgeId h = HalfedgeMesh::halfedge(e);
     out[mesh.tail(h).index()].push_back(h);
     out[mesh.head(h).index()].push_back(HalfedgeMesh::twin(h));
   }
-  TreeTopology topo;
+  WalkedTopology walked;
+  TreeTopology& topo = walked.topology;
+  std::vector<std::int32_t>& node_of = walked.node_of;
   topo.num_terminals = k;
-  std::vector<std::int32_t> node_of(nv, -1);
+  node_of.assign(nv, -1);
   for (std::size_t i = 0; i < k; ++i) {
     topo.nodes.push_back(terminals[i]);
     node_of[terminals[i].index()] = static_cast<std::int32_t>(i);
   }
   std::vector<VertexId> touched;
-  for (EdgeId e : kept) {
+  for (EdgeId e : tree) {
     touched.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
     touched.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
   }
@@ -259,9 +287,16 @@ Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph
       topo.paths.push_back(std::move(path));
     }
   }
+  return walked;
+}
 
-  // A terminal inside the tree hangs off a new Steiner node on its first non-terminal
-  // neighbour along one of its branches; its other branches are re-routed to that node.
+// A terminal inside the tree hangs off a new Steiner node on its first non-terminal
+// neighbour along one of its branches; its other branches are re-routed to that node.
+Result<TreeTopology> hang_inner_terminals(const HalfedgeMesh& mesh, std::span<const VertexId> terminals,
+                                          const std::vector<std::int32_t>& terminal_of, WalkedTopology walked) {
+  const std::size_t k = terminals.size();
+  TreeTopology& topo = walked.topology;
+  std::vector<std::int32_t>& node_of = walked.node_of;
   for (std::uint32_t t = 0; t < k; ++t) {
     std::vector<std::size_t> incident;
     for (std::size_t l = 0; l < topo.links.size(); ++l) {
@@ -309,7 +344,26 @@ Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph
       topo.paths[l].clear();  // no course yet: straighten_topology routes it
     }
   }
-  return topo;
+  return std::move(topo);
+}
+
+}  // namespace
+
+Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                       std::span<const EdgeId> skeleton_edges, std::span<const VertexId> terminals,
+                                       std::span<const double> edge_weights, const CancelToken& cancel) {
+  const std::size_t nv = mesh.num_vertices();
+  const std::size_t k = terminals.size();
+  std::vector<std::int32_t> terminal_of(nv, -1);
+  for (std::size_t i = 0; i < k; ++i) terminal_of[terminals[i].index()] = static_cast<std::int32_t>(i);
+
+  // Keep the skeleton's pieces that touch a terminal, then join them (and terminals the
+  // skeleton missed) to the piece of terminal 0.
+  SEAM_TRY(std::vector<EdgeId> kept,
+           join_to_first_terminal(mesh, graph, terminals, terminal_of,
+                                  terminal_forest(mesh, skeleton_edges, terminals, edge_weights), cancel));
+  kept = prune_dangling(mesh, std::move(kept), terminals);
+  return hang_inner_terminals(mesh, terminals, terminal_of, walk_branches(mesh, kept, terminals));
 }
 
 Result<StraightenResult> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
