@@ -92,6 +92,128 @@ bool replacement_is_simple(IntersectionChecker& checker, const Tour& tour, std::
   return !bad;
 }
 
+// The visit Algorithm 2 removes next, and how.
+struct Removal {
+  std::size_t visit = 0;  // index in Tour::visits
+  bool forced = false;    // no shortcut keeps the tour simple: the pieces around it are merged
+};
+
+// Algorithm 2's state while it removes repeated visits: the tour, how often it visits each
+// terminal, and the half-edge counts of the intersection test, kept in step with the tour.
+class VisitRemoval {
+ public:
+  VisitRemoval(const HalfedgeMesh& mesh, const TerminalPaths& paths, Tour tour)
+      : paths_(paths), tour_(std::move(tour)), visit_count_(paths.size(), 0), checker_(mesh) {
+    stats_.initial_visits = tour_.visits.size();
+    for (std::uint32_t t : tour_.visits) ++visit_count_[t];
+    for (const auto& piece : tour_.pieces) checker_.add(piece, +1);
+    for (std::uint32_t c : visit_count_) distinct_ += c > 0 ? 1 : 0;
+  }
+
+  bool has_repeated_visits() const { return tour_.visits.size() > distinct_; }
+
+  // The repeated visit whose shortcut Pre -> Next is shortest among those that keep the tour
+  // simple; if none does, the one with the shortest shortcut, forced.
+  Removal choose() {
+    const std::size_t n = tour_.visits.size();
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    std::size_t best = n;
+    double best_priority = kInf;
+    std::size_t forced = n;
+    double forced_priority = kInf;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t t = tour_.visits[i];
+      if (visit_count_[t] < 2) continue;
+      const std::size_t ip = prev_index(i, n);
+      const std::uint32_t pre = tour_.visits[ip];
+      const std::uint32_t nxt = tour_.visits[next_index(i, n)];
+      const double priority = distance(pre, nxt);
+      if (priority < forced_priority) forced_priority = priority, forced = i;
+      if (priority >= best_priority) continue;  // cannot win; skip the intersection test
+      if (!replacement_is_simple(checker_, tour_, ip, 2, shortest(pre, nxt), paths_.terminals[pre])) {
+        ++stats_.rejected_removals;
+        continue;
+      }
+      best_priority = priority;
+      best = i;
+    }
+    SEAM_ASSERT(forced < n);
+    const bool is_forced = best == n;
+    return Removal{.visit = is_forced ? forced : best, .forced = is_forced};
+  }
+
+  void remove(Removal removal) {
+    const std::size_t n = tour_.visits.size();
+    // Rotate so the removed visit sits at index 1: Pre at 0, Next at 2.
+    const std::size_t shift = prev_index(removal.visit, n);
+    std::rotate(tour_.visits.begin(), tour_.visits.begin() + static_cast<std::ptrdiff_t>(shift), tour_.visits.end());
+    std::rotate(tour_.pieces.begin(), tour_.pieces.begin() + static_cast<std::ptrdiff_t>(shift), tour_.pieces.end());
+    const std::uint32_t pre = tour_.visits[0];
+    const std::uint32_t t = tour_.visits[1];
+    const std::uint32_t nxt = tour_.visits[2 % n];
+    checker_.add(tour_.pieces[0], -1);
+    checker_.add(tour_.pieces[1], -1);
+    if (removal.forced) {
+      // Keep the course: Pre's piece now runs through t to Next.
+      ++stats_.forced_merges;
+      tour_.pieces[0].insert(tour_.pieces[0].end(), tour_.pieces[1].begin(), tour_.pieces[1].end());
+    } else {
+      ++stats_.removals;
+      tour_.pieces[0] = shortest(pre, nxt);
+    }
+    checker_.add(tour_.pieces[0], +1);
+    tour_.visits.erase(tour_.visits.begin() + 1);
+    tour_.pieces.erase(tour_.pieces.begin() + 1);
+    --visit_count_[t];
+    if (tour_.pieces[0].empty()) {
+      // Pre == Next: the loop through t is gone and the two visits of Pre become one.
+      tour_.pieces[0] = std::move(tour_.pieces[1]);
+      tour_.visits.erase(tour_.visits.begin() + 1);
+      tour_.pieces.erase(tour_.pieces.begin() + 1);
+      --visit_count_[pre];
+    }
+  }
+
+  // Tightening: the part of a shortest tour between two terminals is their shortest path
+  // (§4.2); pieces that are still walk segments become one where that keeps the tour simple.
+  void tighten() {
+    const std::size_t n = tour_.visits.size();
+    for (std::size_t i = 0; i < n && n >= 2; ++i) {
+      const std::uint32_t a = tour_.visits[i];
+      const std::uint32_t b = tour_.visits[next_index(i, n)];
+      const auto& sp = shortest(a, b);
+      if (sp == tour_.pieces[i]) continue;
+      if (!replacement_is_simple(checker_, tour_, i, 1, sp, paths_.terminals[a])) continue;
+      checker_.add(tour_.pieces[i], -1);
+      tour_.pieces[i] = sp;
+      checker_.add(tour_.pieces[i], +1);
+      ++stats_.tightened;
+    }
+  }
+
+  // The tour, started at the lowest terminal index so equal inputs give identical tours.
+  TourResult finish() {
+    const auto first = std::min_element(tour_.visits.begin(), tour_.visits.end()) - tour_.visits.begin();
+    std::rotate(tour_.visits.begin(), tour_.visits.begin() + first, tour_.visits.end());
+    std::rotate(tour_.pieces.begin(), tour_.pieces.begin() + first, tour_.pieces.end());
+    return TourResult{std::move(tour_), stats_};
+  }
+
+ private:
+  const std::vector<HalfedgeId>& shortest(std::uint32_t a, std::uint32_t b) const {
+    return a == b ? no_path_ : paths_.path_between(a, b);
+  }
+  double distance(std::uint32_t a, std::uint32_t b) const { return a == b ? 0.0 : paths_.dist(a, b); }
+
+  const TerminalPaths& paths_;
+  Tour tour_;
+  std::vector<std::uint32_t> visit_count_;
+  IntersectionChecker checker_;
+  const std::vector<HalfedgeId> no_path_;
+  std::size_t distinct_ = 0;  // terminals on the initial tour: the number of visits to reach
+  TourStats stats_;
+};
+
 }  // namespace
 
 std::vector<HalfedgeId> Tour::halfedges() const {
@@ -175,97 +297,13 @@ Result<Tour> mst_walk(const HalfedgeMesh& mesh, const TerminalPaths& paths, cons
 
 Result<TourResult> remove_repeated_visits(const HalfedgeMesh& mesh, const TerminalPaths& paths, Tour tour,
                                           const CancelToken& cancel) {
-  TourStats st;
-  st.initial_visits = tour.visits.size();
-  const std::size_t k = paths.size();
-  std::vector<std::uint32_t> visit_count(k, 0);
-  for (std::uint32_t t : tour.visits) ++visit_count[t];
-  IntersectionChecker checker(mesh);
-  for (const auto& piece : tour.pieces) checker.add(piece, +1);
-  const std::vector<HalfedgeId> no_path;
-  auto shortest = [&](std::uint32_t a, std::uint32_t b) -> const std::vector<HalfedgeId>& {
-    return a == b ? no_path : paths.path_between(a, b);
-  };
-  auto distance = [&](std::uint32_t a, std::uint32_t b) { return a == b ? 0.0 : paths.dist(a, b); };
-
-  std::size_t distinct = 0;
-  for (std::uint32_t c : visit_count) distinct += c > 0 ? 1 : 0;
-  while (tour.visits.size() > distinct) {
+  VisitRemoval removal(mesh, paths, std::move(tour));
+  while (removal.has_repeated_visits()) {
     if (cancel.is_cancelled()) return cancelled_error("tour");
-    const std::size_t n = tour.visits.size();
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    std::size_t best = n;
-    double best_priority = kInf;
-    std::size_t forced = n;
-    double forced_priority = kInf;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t t = tour.visits[i];
-      if (visit_count[t] < 2) continue;
-      const std::size_t ip = prev_index(i, n);
-      const std::uint32_t pre = tour.visits[ip];
-      const std::uint32_t nxt = tour.visits[next_index(i, n)];
-      const double priority = distance(pre, nxt);
-      if (priority < forced_priority) forced_priority = priority, forced = i;
-      if (priority >= best_priority) continue;  // cannot win; skip the intersection test
-      if (!replacement_is_simple(checker, tour, ip, 2, shortest(pre, nxt), paths.terminals[pre])) {
-        ++st.rejected_removals;
-        continue;
-      }
-      best_priority = priority;
-      best = i;
-    }
-    SEAM_ASSERT(forced < n);
-    const bool is_forced = best == n;
-    const std::size_t i = is_forced ? forced : best;
-    // Rotate so the removed visit sits at index 1: Pre at 0, Next at 2.
-    const std::size_t shift = prev_index(i, n);
-    std::rotate(tour.visits.begin(), tour.visits.begin() + static_cast<std::ptrdiff_t>(shift), tour.visits.end());
-    std::rotate(tour.pieces.begin(), tour.pieces.begin() + static_cast<std::ptrdiff_t>(shift), tour.pieces.end());
-    const std::uint32_t pre = tour.visits[0];
-    const std::uint32_t t = tour.visits[1];
-    const std::uint32_t nxt = tour.visits[2 % n];
-    checker.add(tour.pieces[0], -1);
-    checker.add(tour.pieces[1], -1);
-    if (is_forced) {
-      // Keep the course: Pre's piece now runs through t to Next.
-      ++st.forced_merges;
-      tour.pieces[0].insert(tour.pieces[0].end(), tour.pieces[1].begin(), tour.pieces[1].end());
-    } else {
-      ++st.removals;
-      tour.pieces[0] = shortest(pre, nxt);
-    }
-    checker.add(tour.pieces[0], +1);
-    tour.visits.erase(tour.visits.begin() + 1);
-    tour.pieces.erase(tour.pieces.begin() + 1);
-    --visit_count[t];
-    if (tour.pieces[0].empty()) {
-      // Pre == Next: the loop through t is gone and the two visits of Pre become one.
-      tour.pieces[0] = std::move(tour.pieces[1]);
-      tour.visits.erase(tour.visits.begin() + 1);
-      tour.pieces.erase(tour.pieces.begin() + 1);
-      --visit_count[pre];
-    }
+    removal.remove(removal.choose());
   }
-
-  // Tightening: the part of a shortest tour between two terminals is their shortest path
-  // (§4.2); pieces that are still walk segments become one where that keeps the tour simple.
-  const std::size_t n = tour.visits.size();
-  for (std::size_t i = 0; i < n && n >= 2; ++i) {
-    const std::uint32_t a = tour.visits[i];
-    const std::uint32_t b = tour.visits[next_index(i, n)];
-    const auto& sp = shortest(a, b);
-    if (sp == tour.pieces[i]) continue;
-    if (!replacement_is_simple(checker, tour, i, 1, sp, paths.terminals[a])) continue;
-    checker.add(tour.pieces[i], -1);
-    tour.pieces[i] = sp;
-    checker.add(tour.pieces[i], +1);
-    ++st.tightened;
-  }
-  // Start at the lowest terminal index so equal inputs give identical tours.
-  const auto first = std::min_element(tour.visits.begin(), tour.visits.end()) - tour.visits.begin();
-  std::rotate(tour.visits.begin(), tour.visits.begin() + first, tour.visits.end());
-  std::rotate(tour.pieces.begin(), tour.pieces.begin() + first, tour.pieces.end());
-  return TourResult{std::move(tour), st};
+  removal.tighten();
+  return removal.finish();
 }
 
 Result<TourResult> build_tour(const HalfedgeMesh& mesh, const TerminalPaths& paths, const CancelToken& cancel) {
