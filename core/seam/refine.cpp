@@ -295,6 +295,114 @@ double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weight
   return total;
 }
 
+// What trying one piece came to.
+enum class PieceOutcome {
+  kNoMove,      // skipped, or no shorter tree through it
+  kOverBudget,  // solving it would exceed max_work: refinement stops
+  kShorter,     // `tree` is shorter than the current one
+};
+
+struct PieceMove {
+  PieceOutcome outcome = PieceOutcome::kNoMove;
+  std::vector<EdgeId> tree;  // kShorter: the new tree, sorted
+  double length = 0.0;       // kShorter: its length
+};
+
+// What the pieces of every pass share: the scratch arrays, the regions found so far, the
+// work done and the local problems known to have no cheaper tree.
+class PieceRefiner {
+ public:
+  PieceRefiner(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
+               std::span<const VertexId> terminals, const RefineOptions& options)
+      : mesh_(mesh),
+        edge_weights_(edge_weights),
+        terminals_(terminals),
+        options_(options),
+        is_terminal_(mesh.num_vertices(), 0),
+        regions_(graph, options.shortcuts),
+        solver_(mesh, graph),
+        removed_stamp_(mesh.num_edges(), 0),
+        in_rest_(mesh.num_vertices(), 0) {
+    for (VertexId t : terminals) is_terminal_[t.index()] = 1;
+  }
+
+  bool over_budget() const { return work_ > options_.max_work; }
+
+  // Cuts the branches at `piece` loose and re-joins the loose subtrees by the minimum tree
+  // over the region around them; a move when that makes `current` shorter and keeps it a
+  // full-component tree.
+  Result<PieceMove> try_piece(const TreeTopology& topo, const std::vector<std::uint32_t>& piece,
+                              const std::vector<EdgeId>& current, double current_length, RefineStats& st,
+                              const CancelToken& cancel) {
+    const auto [branches, longest] = branches_at(mesh_, edge_weights_, topo, piece);
+    ++st.pieces_tried;
+    // The ports (one per branch not inside the piece) do not depend on the reach.
+    const auto outer = static_cast<std::size_t>(
+        std::count_if(branches.begin(), branches.end(), [](const Branch& br) { return !br.internal; }));
+    if (outer < 2 || outer > options_.max_ports) return PieceMove{};
+    SEAM_TRY(const PieceRegion cut_region, piece_region(mesh_, edge_weights_, branches, longest, options_, regions_,
+                                                        removed_stamp_, stamp_, st, cancel));
+    const PieceCut& piece_cut = cut_region.cut;
+    const std::vector<VertexId>* found = cut_region.region;
+    const std::vector<VertexId>& ports = piece_cut.ports;
+    const double removed_length = piece_cut.removed_length;
+    if (!found) return PieceMove{};
+    // The rest of the tree falls into one subtree per port.
+    std::vector<EdgeId> rest;
+    for (EdgeId e : current) {
+      if (removed_stamp_[e.index()] != stamp_) rest.push_back(e);
+    }
+    const std::span<const VertexId> region(*found);
+    const LocalProblem problem = local_problem(mesh_, rest, ports, region, is_terminal_, in_rest_);
+    const auto& [obstacle, terminal, port_mask] = problem;
+    // The same local problem (region, obstacles, ports, length to beat) that had no
+    // cheaper tree before has none now: later passes only solve pieces near a change.
+    const std::uint64_t key = problem_key(region, obstacle, port_mask, removed_length);
+    if (no_gain_.count(key)) {
+      ++st.pieces_reused;
+      return PieceMove{};
+    }
+    work_ += region.size() << ports.size();
+    if (work_ > options_.max_work) return PieceMove{.outcome = PieceOutcome::kOverBudget};
+    ++st.pieces_solved;
+    st.solved_vertices += region.size();
+    // A move needs a tree cheaper than removed_length - slack. Where the kernel's lower bound
+    // shows that none is (with a margin far above the rounding of a sum of edge weights),
+    // the full solve would also have found nothing: the same piece is skipped, exactly.
+    const double slack = 1e-9 * (1.0 + removed_length);
+    const double target = options_.shortcuts ? removed_length - slack + 1e-11 * (1.0 + removed_length)
+                                             : std::numeric_limits<double>::infinity();
+    auto joined = solver_.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, target, cancel);
+    if (!joined.ok()) return joined.take_error();
+    st.pieces_ruled_out += joined->target_ruled_out ? 1 : 0;
+    if (!(joined->cost < removed_length - slack)) {
+      no_gain_.insert(key);
+      return PieceMove{};
+    }
+    std::vector<EdgeId> candidate = rejoined(mesh_, std::move(rest), joined->halfedges, terminals_);
+    const double length = tree_length(mesh_, edge_weights_, candidate);
+    if (!(length < current_length - 1e-9 * (1.0 + current_length)) ||
+        !check_full_component_tree(mesh_, candidate, terminals_).ok()) {
+      return PieceMove{};
+    }
+    return PieceMove{.outcome = PieceOutcome::kShorter, .tree = std::move(candidate), .length = length};
+  }
+
+ private:
+  const HalfedgeMesh& mesh_;
+  std::span<const double> edge_weights_;
+  std::span<const VertexId> terminals_;
+  const RefineOptions& options_;
+  std::vector<std::uint8_t> is_terminal_;
+  Regions regions_;
+  LocalSteiner solver_;
+  std::vector<std::uint32_t> removed_stamp_;
+  std::uint32_t stamp_ = 0;
+  std::vector<std::uint8_t> in_rest_;
+  std::size_t work_ = 0;                       // region vertices times port subsets solved so far
+  std::unordered_set<std::uint64_t> no_gain_;  // problem_key of local problems with no cheaper tree
+};
+
 }  // namespace
 
 Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
@@ -311,17 +419,7 @@ Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& grap
   st.length_before = current_length;
   if (options.max_ports > 20) return make_error(ErrorCode::kInvalidArgument, "max_ports above 20");
 
-  const std::size_t nv = mesh.num_vertices();
-  std::vector<std::uint8_t> is_terminal(nv, 0);
-  for (VertexId t : terminals) is_terminal[t.index()] = 1;
-  Regions regions(graph, options.shortcuts);
-  LocalSteiner solver(mesh, graph);
-  std::vector<std::uint32_t> removed_stamp(mesh.num_edges(), 0);
-  std::uint32_t stamp = 0;
-  std::vector<std::uint8_t> in_rest(nv, 0);
-  std::size_t work = 0;  // region vertices times port subsets solved so far
-  std::unordered_set<std::uint64_t> no_gain;  // problem_key of local problems with no cheaper tree
-
+  PieceRefiner refiner(mesh, graph, edge_weights, terminals, options);
   for (int pass = 0; pass < options.max_passes; ++pass) {
     bool improved = false;
     std::size_t index = 0;
@@ -330,60 +428,12 @@ Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& grap
     auto pieces = pieces_of(topo);
     while (index < pieces.size() && moves < 4 * pieces.size() + 8) {
       if (cancel.is_cancelled()) return cancelled_error("seam refinement");
-      const auto [branches, longest] = branches_at(mesh, edge_weights, topo, pieces[index]);
+      SEAM_TRY(PieceMove move, refiner.try_piece(topo, pieces[index], current, current_length, st, cancel));
       ++index;
-      ++st.pieces_tried;
-      // The ports (one per branch not inside the piece) do not depend on the reach.
-      const auto outer = static_cast<std::size_t>(
-          std::count_if(branches.begin(), branches.end(), [](const Branch& br) { return !br.internal; }));
-      if (outer < 2 || outer > options.max_ports) continue;
-      SEAM_TRY(const PieceRegion piece, piece_region(mesh, edge_weights, branches, longest, options, regions,
-                                                     removed_stamp, stamp, st, cancel));
-      const PieceCut& piece_cut = piece.cut;
-      const std::vector<VertexId>* found = piece.region;
-      const std::vector<VertexId>& ports = piece_cut.ports;
-      const double removed_length = piece_cut.removed_length;
-      if (!found) continue;
-      // The rest of the tree falls into one subtree per port.
-      std::vector<EdgeId> rest;
-      for (EdgeId e : current) {
-        if (removed_stamp[e.index()] != stamp) rest.push_back(e);
-      }
-      const std::span<const VertexId> region(*found);
-      const LocalProblem problem = local_problem(mesh, rest, ports, region, is_terminal, in_rest);
-      const auto& [obstacle, terminal, port_mask] = problem;
-      // The same local problem (region, obstacles, ports, length to beat) that had no
-      // cheaper tree before has none now: later passes only solve pieces near a change.
-      const std::uint64_t key = problem_key(region, obstacle, port_mask, removed_length);
-      if (no_gain.count(key)) {
-        ++st.pieces_reused;
-        continue;
-      }
-      work += region.size() << ports.size();
-      if (work > options.max_work) break;
-      ++st.pieces_solved;
-      st.solved_vertices += region.size();
-      // A move needs a tree cheaper than removed_length - slack. Where the kernel's lower bound
-      // shows that none is (with a margin far above the rounding of a sum of edge weights),
-      // the full solve would also have found nothing: the same piece is skipped, exactly.
-      const double slack = 1e-9 * (1.0 + removed_length);
-      const double target = options.shortcuts ? removed_length - slack + 1e-11 * (1.0 + removed_length)
-                                              : std::numeric_limits<double>::infinity();
-      auto joined = solver.solve(region, obstacle, terminal, port_mask, ports.size(), removed_length, target, cancel);
-      if (!joined.ok()) return joined.take_error();
-      st.pieces_ruled_out += joined->target_ruled_out ? 1 : 0;
-      if (!(joined->cost < removed_length - slack)) {
-        no_gain.insert(key);
-        continue;
-      }
-      std::vector<EdgeId> candidate = rejoined(mesh, std::move(rest), joined->halfedges, terminals);
-      const double length = tree_length(mesh, edge_weights, candidate);
-      if (!(length < current_length - 1e-9 * (1.0 + current_length)) ||
-          !check_full_component_tree(mesh, candidate, terminals).ok()) {
-        continue;
-      }
-      current = std::move(candidate);
-      current_length = length;
+      if (move.outcome == PieceOutcome::kOverBudget) break;
+      if (move.outcome == PieceOutcome::kNoMove) continue;
+      current = std::move(move.tree);
+      current_length = move.length;
       improved = true;
       ++st.improvements;
       ++moves;
@@ -392,7 +442,7 @@ Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& grap
       pieces = pieces_of(topo);
       --index;
     }
-    if (!improved || work > options.max_work) break;
+    if (!improved || refiner.over_budget()) break;
   }
   st.length_after = current_length;
   return RefineResult{std::move(current), st};
