@@ -228,157 +228,282 @@ std::vector<EdgeId> widen_single_edge(const HalfedgeMesh& mesh, EdgeId e) {
   return best;
 }
 
-Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology& topo, std::uint32_t component,
-                                        std::span<const FaceId> faces, std::span<const VertexId> extrema,
-                                        const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
-  ComponentSeam out;
-  auto start = Clock::now();
-  const ComponentInfo& info = topo.components[component];
-
-  // The component as its own mesh (the input itself when it is the only one).
-  const bool whole = topo.components.size() == 1;
+// The component as the methods see it: its own mesh (the input itself when it is the only
+// one), opened into a disc by its cut graph, and the disc's boundary loops coned. Each layer
+// is reached through the ones below it, so every result maps back to the input.
+struct ComponentSurface {
+  const HalfedgeMesh& mesh;      // the input
+  bool whole = false;            // the component is the whole input: nothing extracted
+  bool needs_cut_graph = false;  // handles or extra boundary loops
+  bool has_boundary = false;     // the disc has a boundary, closed by cones
   ComponentMesh extracted;
-  if (!whole) {
-    SEAM_TRY(extracted, extract_faces(mesh, faces));
-  }
-  const HalfedgeMesh& sub = whole ? mesh : extracted.mesh;
-  auto to_local = [&](VertexId v) {
+  std::vector<EdgeId> cut_graph_edges;  // in the input mesh
+  CutMesh cut;
+  ConedMesh coned;
+
+  const HalfedgeMesh& sub() const { return whole ? mesh : extracted.mesh; }
+  const HalfedgeMesh& disc() const { return needs_cut_graph ? cut.mesh : sub(); }
+  const HalfedgeMesh& work() const { return has_boundary ? coned.mesh : disc(); }
+
+  VertexId to_local(VertexId v) const {
     if (whole) return v;
     const auto it = std::lower_bound(extracted.to_parent.begin(), extracted.to_parent.end(), v);
     return VertexId(static_cast<std::uint32_t>(it - extracted.to_parent.begin()));
-  };
-  auto sub_edges_to_mesh = [&](const std::vector<EdgeId>& edges) {
-    return whole ? edges : map_edges(sub, extracted.to_parent, mesh, edges);
-  };
-
-  // Handles and extra boundary loops: cut graph first, then work on the cut disc.
-  CutMesh cut;
-  const bool needs_cut_graph = info.genus > 0 || info.boundary_loops > 1;
-  if (needs_cut_graph) {
-    SEAM_TRY(std::vector<EdgeId> cut_graph, compute_cut_graph(sub, cancel));
-    out.cut_graph_edges = sub_edges_to_mesh(cut_graph);
-    SEAM_TRY(cut, cut_along_edges(sub, cut_graph));
   }
-  const HalfedgeMesh& disc = needs_cut_graph ? cut.mesh : sub;
-  auto disc_to_mesh = [&](VertexId v) {
+  std::vector<EdgeId> sub_edges_to_mesh(const std::vector<EdgeId>& edges) const {
+    return whole ? edges : map_edges(sub(), extracted.to_parent, mesh, edges);
+  }
+  VertexId disc_to_mesh(VertexId v) const {
     const VertexId s = needs_cut_graph ? cut.to_original[v] : v;
     return whole ? s : extracted.to_parent[s.index()];
-  };
-  const bool has_boundary = needs_cut_graph || info.boundary_loops > 0;
+  }
+  std::vector<EdgeId> disc_edges_to_mesh(std::vector<EdgeId> disc_edges) const {
+    std::vector<EdgeId> sub_edges;
+    if (needs_cut_graph) {
+      sub_edges = map_edges(disc(), cut.to_original.raw(), sub(), disc_edges);
+    } else {
+      sub_edges = std::move(disc_edges);
+    }
+    return sub_edges_to_mesh(sub_edges);
+  }
+};
 
-  // Terminals on the disc. The cut keeps the first wedge's vertex id, so a sub vertex is also
-  // a disc vertex; extrema on the disc's boundary are already on the cut.
+// Extracts the component, opens it along its cut graph and cones the disc's boundary loops.
+// (Coning only reads the disc, so it may come before the terminals are picked on it.)
+Result<ComponentSurface> open_component(const HalfedgeMesh& mesh, const Topology& topo, std::uint32_t component,
+                                        std::span<const FaceId> faces, const CancelToken& cancel) {
+  const ComponentInfo& info = topo.components[component];
+  ComponentSurface s{.mesh = mesh, .whole = topo.components.size() == 1};
+  if (!s.whole) {
+    SEAM_TRY(s.extracted, extract_faces(mesh, faces));
+  }
+  // Handles and extra boundary loops: cut graph first, then work on the cut disc.
+  s.needs_cut_graph = info.genus > 0 || info.boundary_loops > 1;
+  if (s.needs_cut_graph) {
+    SEAM_TRY(std::vector<EdgeId> cut_graph, compute_cut_graph(s.sub(), cancel));
+    s.cut_graph_edges = s.sub_edges_to_mesh(cut_graph);
+    SEAM_TRY(s.cut, cut_along_edges(s.sub(), cut_graph));
+  }
+  s.has_boundary = s.needs_cut_graph || info.boundary_loops > 0;
+  if (s.has_boundary) {
+    SEAM_TRY(s.coned, cone_boundary_loops(s.disc()));
+  }
+  return s;
+}
+
+// Terminals on the disc: the extrema off its boundary, then the cones' apexes. The cut keeps
+// the first wedge's vertex id, so a sub vertex is also a disc vertex; extrema on the disc's
+// boundary are already on the cut.
+std::vector<VertexId> disc_terminals(const ComponentSurface& s, std::span<const VertexId> extrema) {
   std::vector<VertexId> terminals;
   for (VertexId x : extrema) {
-    const VertexId local = to_local(x);
-    if (!disc.is_boundary(local)) terminals.push_back(local);
+    const VertexId local = s.to_local(x);
+    if (!s.disc().is_boundary(local)) terminals.push_back(local);
   }
-  ConedMesh coned;
-  if (has_boundary) {
-    SEAM_TRY(coned, cone_boundary_loops(disc));
-    terminals.insert(terminals.end(), coned.apexes.begin(), coned.apexes.end());
-  }
-  const HalfedgeMesh& work = has_boundary ? coned.mesh : disc;
+  if (s.has_boundary) terminals.insert(terminals.end(), s.coned.apexes.begin(), s.coned.apexes.end());
+  return terminals;
+}
+
+// The edge weights of `work` for the method (empty: Euclidean).
+std::vector<double> method_edge_weights(const ComponentSurface& s, const SeamOptions& options) {
+  const HalfedgeMesh& work = s.work();
   std::vector<double> penalized;
   if (!options.edge_costs.empty()) {
     // Each real edge weighs its length times its input edge's multiplier; virtual edges 0.
     penalized.assign(work.num_edges(), 0.0);
     for (std::size_t e = 0; e < work.num_edges(); ++e) {
-      if (has_boundary && coned.is_virtual(EdgeId(e))) continue;
+      if (s.has_boundary && s.coned.is_virtual(EdgeId(e))) continue;
       const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
-      const HalfedgeId in = mesh.find_halfedge(disc_to_mesh(work.tail(h)), disc_to_mesh(work.head(h)));
+      const HalfedgeId in = s.mesh.find_halfedge(s.disc_to_mesh(work.tail(h)), s.disc_to_mesh(work.head(h)));
       SEAM_ASSERT(in.valid());
       penalized[e] = work.edge_length(EdgeId(e)) * options.edge_costs[HalfedgeMesh::edge(in).index()];
     }
   }
-  if (has_boundary) {
+  if (s.has_boundary) {
     // Every real edge at a boundary vertex costs P more, P above any tree's length: a tree
     // then first minimises how many edges meet the boundary (one: the apex's attachment, so
     // no path grazes the boundary and the boundary terminal is touched at one point by one
     // edge, §4.1), then its length. Without it a path between two extrema could run through
     // the zero-weight apex (a shortcut across the hole) or graze the boundary elsewhere.
-    if (penalized.empty()) penalized = coned.edge_weights;
+    if (penalized.empty()) penalized = s.coned.edge_weights;
     double total = 1.0;
     for (double w : penalized) total += w;
     for (std::size_t e = 0; e < work.num_edges(); ++e) {
-      if (coned.is_virtual(EdgeId(e))) continue;
+      if (s.coned.is_virtual(EdgeId(e))) continue;
       const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
-      if (disc.is_boundary(work.tail(h)) || disc.is_boundary(work.head(h))) penalized[e] += total;
+      if (s.disc().is_boundary(work.tail(h)) || s.disc().is_boundary(work.head(h))) penalized[e] += total;
     }
   }
+  return penalized;
+}
+
+// A closed disc with fewer than two terminals: the extremum (or, with none, one end of a
+// double-sweep diameter) and the vertex farthest from it, unless that is itself.
+Result<std::vector<VertexId>> axis_terminals(const HalfedgeMesh& disc, std::vector<VertexId> terminals,
+                                             const CancelToken& cancel) {
+  const EdgeGraph graph = build_edge_graph(disc);
+  VertexId first;
+  if (terminals.empty()) {
+    SEAM_TRY(first, farthest_vertex(graph, disc.tail(disc.face_halfedge(FaceId(0u))), cancel));
+    terminals.push_back(first);
+  }
+  SEAM_TRY(VertexId far, farthest_vertex(graph, terminals[0], cancel));
+  if (far != terminals[0]) terminals.push_back(far);
+  return terminals;
+}
+
+struct DiscSeam {
+  std::vector<EdgeId> edges;
+  bool widened = false;  // a single edge became two: no longer a minimum tree
+};
+
+// The method's tree back on the disc: virtual edges dropped, then a forest that touches the
+// boundary once per tree; a single edge on a closed disc is widened.
+DiscSeam seam_on_disc(const ComponentSurface& s, std::span<const VertexId> terminals, std::vector<EdgeId> work_edges) {
+  const HalfedgeMesh& disc = s.disc();
+  const HalfedgeMesh& work = s.work();
+  std::vector<EdgeId> disc_edges;
+  std::vector<VertexId> keep;
+  if (s.has_boundary) {
+    std::vector<VertexId> to_disc(work.num_vertices());
+    for (std::size_t v = 0; v < work.num_vertices(); ++v) {
+      to_disc[v] = s.coned.is_apex(VertexId(v)) ? VertexId() : VertexId(v);
+    }
+    disc_edges = map_edges(work, to_disc, disc, work_edges);
+    for (VertexId t : terminals) {
+      if (!s.coned.is_apex(t)) keep.push_back(t);
+    }
+  } else {
+    disc_edges = std::move(work_edges);
+    keep.assign(terminals.begin(), terminals.end());
+  }
+  std::vector<VertexId> boundary;
+  if (s.has_boundary) {
+    for (std::size_t v = 0; v < disc.num_vertices(); ++v) {
+      if (disc.is_boundary(VertexId(v))) boundary.push_back(VertexId(v));
+    }
+  }
+  DiscSeam out;
+  out.edges = pruned_spanning_forest(disc, disc_edges, keep, {}, boundary);
+  if (!s.has_boundary && out.edges.size() == 1) {
+    out.edges = widen_single_edge(disc, out.edges[0]);
+    out.widened = true;
+  }
+  return out;
+}
+
+// Where the seam reaches the boundary (in the input mesh): that point stands for the
+// boundary terminal.
+std::vector<VertexId> boundary_touch_points(const ComponentSurface& s, std::span<const EdgeId> disc_edges) {
+  std::vector<VertexId> touch;
+  for (EdgeId e : disc_edges) {
+    for (unsigned side = 0; side < 2; ++side) {
+      const VertexId v = s.disc().tail(HalfedgeMesh::halfedge(e, side));
+      if (s.disc().is_boundary(v)) touch.push_back(s.disc_to_mesh(v));
+    }
+  }
+  return touch;
+}
+
+Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology& topo, std::uint32_t component,
+                                        std::span<const FaceId> faces, std::span<const VertexId> extrema,
+                                        const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
+  ComponentSeam out;
+  auto start = Clock::now();
+  SEAM_TRY(ComponentSurface surface, open_component(mesh, topo, component, faces, cancel));
+  out.cut_graph_edges = std::move(surface.cut_graph_edges);
+  std::vector<VertexId> terminals = disc_terminals(surface, extrema);
+  const std::vector<double> penalized = method_edge_weights(surface, options);
   const std::span<const double> weights = penalized;  // empty: Euclidean
   stats.preprocess_ms += ms_since(start);
 
-  if (!has_boundary && terminals.size() < 2) {
+  if (!surface.has_boundary && terminals.size() < 2) {
     start = Clock::now();
-    const EdgeGraph graph = build_edge_graph(disc);
-    VertexId first;
-    if (terminals.empty()) {
-      SEAM_TRY(first, farthest_vertex(graph, disc.tail(disc.face_halfedge(FaceId(0u))), cancel));
-      terminals.push_back(first);
-    }
-    SEAM_TRY(VertexId far, farthest_vertex(graph, terminals[0], cancel));
-    if (far != terminals[0]) terminals.push_back(far);
+    SEAM_TRY(terminals, axis_terminals(surface.disc(), std::move(terminals), cancel));
     for (std::size_t i = extrema.size() > 0 ? 1 : 0; i < terminals.size(); ++i) {
-      out.extra_terminals.push_back(disc_to_mesh(terminals[i]));
+      out.extra_terminals.push_back(surface.disc_to_mesh(terminals[i]));
     }
     stats.paths_ms += ms_since(start);
   }
   stats.terminals += terminals.size();
   if (terminals.size() < 2) return out;  // an open disc with no extrema inside: no seam
 
-  SEAM_TRY(MethodTree method_tree, run_method(work, weights, terminals, options, stats, cancel));
+  SEAM_TRY(MethodTree method_tree, run_method(surface.work(), weights, terminals, options, stats, cancel));
   out.exact = method_tree.exact;
-  std::vector<EdgeId> work_edges = std::move(method_tree.edges);
-
-  // Back to the disc: drop virtual edges, keep a forest touching the boundary once per tree.
-  std::vector<EdgeId> disc_edges;
-  std::vector<VertexId> keep;
-  if (has_boundary) {
-    std::vector<VertexId> to_disc(work.num_vertices());
-    for (std::size_t v = 0; v < work.num_vertices(); ++v) {
-      to_disc[v] = coned.is_apex(VertexId(v)) ? VertexId() : VertexId(v);
-    }
-    disc_edges = map_edges(work, to_disc, disc, work_edges);
-    for (VertexId t : terminals) {
-      if (!coned.is_apex(t)) keep.push_back(t);
-    }
-  } else {
-    disc_edges = std::move(work_edges);
-    keep = terminals;
-  }
-  std::vector<VertexId> boundary;
-  if (has_boundary) {
-    for (std::size_t v = 0; v < disc.num_vertices(); ++v) {
-      if (disc.is_boundary(VertexId(v))) boundary.push_back(VertexId(v));
-    }
-  }
-  disc_edges = pruned_spanning_forest(disc, disc_edges, keep, {}, boundary);
-  if (!has_boundary && disc_edges.size() == 1) {
-    disc_edges = widen_single_edge(disc, disc_edges[0]);
-    out.exact = false;  // the minimum (one edge) cannot be cut; its widening is not minimal
-  }
-
-  // Where the seam reaches the boundary: that point stands for the boundary terminal.
-  if (has_boundary) {
-    std::vector<VertexId> touch;
-    for (EdgeId e : disc_edges) {
-      for (unsigned side = 0; side < 2; ++side) {
-        const VertexId v = disc.tail(HalfedgeMesh::halfedge(e, side));
-        if (disc.is_boundary(v)) touch.push_back(disc_to_mesh(v));
-      }
-    }
+  DiscSeam seam = seam_on_disc(surface, terminals, std::move(method_tree.edges));
+  if (seam.widened) out.exact = false;  // the minimum (one edge) cannot be cut; its widening is not minimal
+  if (surface.has_boundary) {
+    const std::vector<VertexId> touch = boundary_touch_points(surface, seam.edges);
     out.extra_terminals.insert(out.extra_terminals.end(), touch.begin(), touch.end());
   }
-
-  std::vector<EdgeId> sub_edges;
-  if (needs_cut_graph) {
-    sub_edges = map_edges(disc, cut.to_original.raw(), sub, disc_edges);
-  } else {
-    sub_edges = std::move(disc_edges);
-  }
-  out.seam_edges = sub_edges_to_mesh(sub_edges);
+  out.seam_edges = surface.disc_edges_to_mesh(std::move(seam.edges));
   return out;
+}
+
+// The extrema in input order without repeats. Errors: kIndexOutOfRange naming the first
+// extremum that is no vertex of a face.
+Result<std::vector<VertexId>> distinct_extrema(const HalfedgeMesh& mesh, std::span<const VertexId> extrema) {
+  const std::size_t nv = mesh.num_vertices();
+  std::vector<VertexId> distinct;
+  for (VertexId x : extrema) {
+    if (!x.valid() || x.index() >= nv) {
+      return make_error(ErrorCode::kIndexOutOfRange,
+                        "extremum " + std::to_string(x.value()) + " is out of range (the mesh has " +
+                            std::to_string(nv) + " vertices)",
+                        {x.value()});
+    }
+    if (mesh.is_isolated(x)) {
+      return make_error(ErrorCode::kIndexOutOfRange,
+                        "extremum " + std::to_string(x.value()) + " is an isolated vertex (in no face)", {x.value()});
+    }
+    if (std::find(distinct.begin(), distinct.end(), x) == distinct.end()) distinct.push_back(x);
+  }
+  return distinct;
+}
+
+// Errors: kInvalidArgument unless edge_costs is empty or one finite positive cost per edge.
+Status check_edge_costs(const HalfedgeMesh& mesh, const SeamOptions& options) {
+  if (options.edge_costs.empty()) return Ok{};
+  if (options.edge_costs.size() != mesh.num_edges()) {
+    return make_error(ErrorCode::kInvalidArgument, "edge_costs has " + std::to_string(options.edge_costs.size()) +
+                                                       " values for " + std::to_string(mesh.num_edges()) + " edges");
+  }
+  for (std::size_t e = 0; e < options.edge_costs.size(); ++e) {
+    const double c = options.edge_costs[e];
+    if (!(c > 0) || !std::isfinite(c)) {
+      return make_error(
+          ErrorCode::kInvalidArgument,
+          "edge cost " + std::to_string(c) + " of edge " + std::to_string(e) + " is not finite and positive",
+          {static_cast<std::uint32_t>(e)});
+    }
+  }
+  return Ok{};
+}
+
+// Faces bucketed by component once, so many small parts cost O(F) in total, not O(C F).
+// Empty with a single component (it is the whole mesh).
+std::vector<std::vector<FaceId>> faces_by_component(const HalfedgeMesh& mesh, const Topology& topo) {
+  std::vector<std::vector<FaceId>> component_faces(topo.components.size() > 1 ? topo.components.size() : 0);
+  if (topo.components.size() > 1) {
+    for (std::size_t c = 0; c < topo.components.size(); ++c) component_faces[c].reserve(topo.components[c].faces);
+    for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+      component_faces[topo.face_component[FaceId(f)]].push_back(FaceId(f));
+    }
+  }
+  return component_faces;
+}
+
+// Each branch of the tree as its chain of vertices, from its first half-edge's tail.
+std::vector<std::vector<VertexId>> branch_chains(const HalfedgeMesh& mesh, const SteinerTree& tree) {
+  std::vector<std::vector<VertexId>> chains;
+  for (const auto& branch : tree.branches) {
+    std::vector<VertexId> chain;
+    chain.reserve(branch.size() + 1);
+    chain.push_back(mesh.tail(branch.front()));
+    for (HalfedgeId h : branch) chain.push_back(mesh.head(h));
+    chains.push_back(std::move(chain));
+  }
+  return chains;
 }
 
 template <class T>
@@ -398,39 +523,10 @@ std::vector<EdgeId> all_cut_edges(const SeamResult& seam) {
 
 Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const VertexId> extrema, const SeamOptions& options,
                                 const CancelToken& cancel) {
-  const std::size_t nv = mesh.num_vertices();
   SeamResult result;
-  for (VertexId x : extrema) {
-    if (!x.valid() || x.index() >= nv) {
-      return make_error(ErrorCode::kIndexOutOfRange,
-                        "extremum " + std::to_string(x.value()) + " is out of range (the mesh has " +
-                            std::to_string(nv) + " vertices)",
-                        {x.value()});
-    }
-    if (mesh.is_isolated(x)) {
-      return make_error(ErrorCode::kIndexOutOfRange,
-                        "extremum " + std::to_string(x.value()) + " is an isolated vertex (in no face)", {x.value()});
-    }
-    if (std::find(result.extrema.begin(), result.extrema.end(), x) == result.extrema.end()) {
-      result.extrema.push_back(x);
-    }
-  }
+  SEAM_TRY(result.extrema, distinct_extrema(mesh, extrema));
   if (mesh.num_faces() == 0) return make_error(ErrorCode::kEmptyMesh, "the mesh has no faces");
-  if (!options.edge_costs.empty()) {
-    if (options.edge_costs.size() != mesh.num_edges()) {
-      return make_error(ErrorCode::kInvalidArgument, "edge_costs has " + std::to_string(options.edge_costs.size()) +
-                                                         " values for " + std::to_string(mesh.num_edges()) + " edges");
-    }
-    for (std::size_t e = 0; e < options.edge_costs.size(); ++e) {
-      const double c = options.edge_costs[e];
-      if (!(c > 0) || !std::isfinite(c)) {
-        return make_error(ErrorCode::kInvalidArgument,
-                          "edge cost " + std::to_string(c) + " of edge " + std::to_string(e) +
-                              " is not finite and positive",
-                          {static_cast<std::uint32_t>(e)});
-      }
-    }
-  }
+  if (auto costs = check_edge_costs(mesh, options); !costs.ok()) return costs.take_error();
 
   auto start = Clock::now();
   const Topology topo = compute_topology(mesh);
@@ -438,14 +534,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
 
   std::vector<std::vector<VertexId>> per_component(topo.components.size());
   for (VertexId x : result.extrema) per_component[topo.vertex_component[x]].push_back(x);
-  // Faces bucketed by component once, so many small parts cost O(F) in total, not O(C F).
-  std::vector<std::vector<FaceId>> component_faces(topo.components.size() > 1 ? topo.components.size() : 0);
-  if (topo.components.size() > 1) {
-    for (std::size_t c = 0; c < topo.components.size(); ++c) component_faces[c].reserve(topo.components[c].faces);
-    for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-      component_faces[topo.face_component[FaceId(f)]].push_back(FaceId(f));
-    }
-  }
+  const std::vector<std::vector<FaceId>> component_faces = faces_by_component(mesh, topo);
 
   std::vector<VertexId> extra_terminals;
   result.optimal = true;
@@ -475,13 +564,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
   const SteinerTree summary = make_steiner_tree(mesh, result.seam_edges, result.terminals);
   result.steiner_points = summary.steiner_points;
   result.length = summary.length;
-  for (const auto& branch : summary.branches) {
-    std::vector<VertexId> chain;
-    chain.reserve(branch.size() + 1);
-    chain.push_back(mesh.tail(branch.front()));
-    for (HalfedgeId h : branch) chain.push_back(mesh.head(h));
-    result.branches.push_back(std::move(chain));
-  }
+  result.branches = branch_chains(mesh, summary);
   for (EdgeId e : result.cut_graph_edges) result.cut_graph_length += mesh.edge_length(e);
   for (EdgeId e : result.seam_edges) {
     result.cost += mesh.edge_length(e) * (options.edge_costs.empty() ? 1.0 : options.edge_costs[e.index()]);
