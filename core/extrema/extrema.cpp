@@ -117,16 +117,20 @@ std::vector<Component> collect_components(const HalfedgeMesh& mesh, const Topolo
 // with 16 x 4,930 settles to do.)
 constexpr std::size_t kMinSettlesPerThread = 20000;
 
-// The AGD estimate on one component, divided by sqrt(area), indexed like comp.vertices.
-// Farthest-point sampling starts from the vertex farthest from the component's lowest id (an
-// end of an approximate diameter), so the start depends on the numbering only through the
-// ties of a symmetric shape.
-Result<std::vector<double>> component_field(const EdgeGraph& graph, const Component& comp,
-                                            const std::vector<std::uint32_t>& local_of,
-                                            const std::vector<double>& area, std::size_t samples, unsigned threads,
-                                            std::size_t& samples_used, const CancelToken& cancel) {
+// Farthest-point samples of a component (local indices), each vertex's nearest sample, and a
+// bound on every distance in the component (twice the eccentricity of vertex 0).
+struct FarthestSamples {
+  std::vector<std::uint32_t> sources;
+  std::vector<std::uint32_t> nearest_sample;  // per local vertex: its index in `sources`
+  double bound = 0;
+};
+
+// Farthest-point sampling with incremental (Voronoi-pruned) Dijkstra runs, starting from the
+// vertex farthest from local vertex 0; at most `k_max` samples.
+Result<FarthestSamples> farthest_point_samples(const EdgeGraph& graph, const Component& comp,
+                                               const std::vector<std::uint32_t>& local_of, std::size_t k_max,
+                                               const CancelToken& cancel) {
   const std::size_t n = comp.vertices.size();
-  const std::size_t k_max = std::min(samples, n);
   auto farthest = [&](const std::vector<double>& value) {
     std::size_t best = 0;
     for (std::size_t j = 1; j < n; ++j) {
@@ -135,42 +139,40 @@ Result<std::vector<double>> component_field(const EdgeGraph& graph, const Compon
     return static_cast<std::uint32_t>(best);
   };
   auto nothing = [](std::uint32_t, std::uint32_t) {};
-
-  // 1. Farthest-point sampling with incremental (Voronoi-pruned) Dijkstra runs.
+  FarthestSamples out;
   std::vector<double> nearest_distance(n, kInf);
-  std::vector<std::uint32_t> nearest_sample(n, 0);
-  std::vector<std::uint32_t> sources;
-  double bound = 0;  // >= every distance in the component: twice the eccentricity of vertex 0
-  {
-    IndexedHeap heap(nearest_distance, n);
-    if (auto st = relax_from(graph, comp, local_of, 0, nearest_distance, heap, cancel, nothing); !st.ok()) {
+  out.nearest_sample.assign(n, 0);
+  IndexedHeap heap(nearest_distance, n);
+  if (auto st = relax_from(graph, comp, local_of, 0, nearest_distance, heap, cancel, nothing); !st.ok()) {
+    return st.take_error();
+  }
+  std::uint32_t source = farthest(nearest_distance);
+  out.bound = 2.0 * nearest_distance[source];
+  std::fill(nearest_distance.begin(), nearest_distance.end(), kInf);
+  while (out.sources.size() < k_max) {
+    const auto k = static_cast<std::uint32_t>(out.sources.size());
+    out.sources.push_back(source);
+    auto claim = [&](std::uint32_t w, std::uint32_t) { out.nearest_sample[w] = k; };
+    if (auto st = relax_from(graph, comp, local_of, source, nearest_distance, heap, cancel, claim); !st.ok()) {
       return st.take_error();
     }
-    std::uint32_t source = farthest(nearest_distance);
-    bound = 2.0 * nearest_distance[source];
-    std::fill(nearest_distance.begin(), nearest_distance.end(), kInf);
-    while (sources.size() < k_max) {
-      const auto k = static_cast<std::uint32_t>(sources.size());
-      sources.push_back(source);
-      auto claim = [&](std::uint32_t w, std::uint32_t) { nearest_sample[w] = k; };
-      if (auto st = relax_from(graph, comp, local_of, source, nearest_distance, heap, cancel, claim); !st.ok()) {
-        return st.take_error();
-      }
-      source = farthest(nearest_distance);
-      if (nearest_distance[source] == 0.0) break;  // every vertex is a source already
-    }
+    source = farthest(nearest_distance);
+    if (nearest_distance[source] == 0.0) break;  // every vertex is a source already
   }
-  samples_used = sources.size();
+  return out;
+}
 
-  // 2. Geodesic Voronoi cell areas make the sum a quadrature of the area integral, not an
-  // average over sources that farthest-point sampling places preferentially at tips.
-  std::vector<double> weight(sources.size(), 0.0);
-  for (std::size_t j = 0; j < n; ++j) weight[nearest_sample[j]] += area[comp.vertices[j]] / comp.area;
-
-  // 3. One full Dijkstra per source, in parallel. Each term w_i d_i(v) is rounded to a fixed
-  // point before summing, so integer addition makes the sum independent of the order and
-  // thus of the thread count: the result is bit-identical on every machine.
-  const double to_fixed = bound > 0 ? std::ldexp(1.0, 52) / bound : 0.0;
+// One full Dijkstra per source, in parallel, summing weight[i] * d_i(v) per local vertex in
+// fixed point (`to_fixed` per unit). Each term is rounded before summing, so integer addition
+// makes the sum independent of the order and thus of the thread count: the result is
+// bit-identical on every machine.
+Result<std::vector<std::int64_t>> fixed_point_weighted_sums(const EdgeGraph& graph, const Component& comp,
+                                                            const std::vector<std::uint32_t>& local_of,
+                                                            const std::vector<std::uint32_t>& sources,
+                                                            const std::vector<double>& weight, double to_fixed,
+                                                            unsigned threads, const CancelToken& cancel) {
+  const std::size_t n = comp.vertices.size();
+  auto nothing = [](std::uint32_t, std::uint32_t) {};
   const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t wanted = threads == 0 ? hw : threads;
   const std::size_t num_threads = std::clamp<std::size_t>(std::min(wanted, n * sources.size() / kMinSettlesPerThread), 1,
@@ -204,9 +206,37 @@ Result<std::vector<double>> component_field(const EdgeGraph& graph, const Compon
   for (std::size_t t = 1; t < num_threads; ++t) {
     for (std::size_t j = 0; j < n; ++j) partial[0][j] += partial[t][j];
   }
+  return std::move(partial[0]);
+}
+
+// The AGD estimate on one component, divided by sqrt(area), indexed like comp.vertices.
+// Farthest-point sampling starts from the vertex farthest from the component's lowest id (an
+// end of an approximate diameter), so the start depends on the numbering only through the
+// ties of a symmetric shape.
+Result<std::vector<double>> component_field(const EdgeGraph& graph, const Component& comp,
+                                            const std::vector<std::uint32_t>& local_of, const std::vector<double>& area,
+                                            std::size_t samples, unsigned threads, std::size_t& samples_used,
+                                            const CancelToken& cancel) {
+  const std::size_t n = comp.vertices.size();
+  const std::size_t k_max = std::min(samples, n);
+
+  // 1. Farthest-point sampling.
+  SEAM_TRY(const FarthestSamples sampled, farthest_point_samples(graph, comp, local_of, k_max, cancel));
+  const std::vector<std::uint32_t>& sources = sampled.sources;
+  samples_used = sources.size();
+
+  // 2. Geodesic Voronoi cell areas make the sum a quadrature of the area integral, not an
+  // average over sources that farthest-point sampling places preferentially at tips.
+  std::vector<double> weight(sources.size(), 0.0);
+  for (std::size_t j = 0; j < n; ++j) weight[sampled.nearest_sample[j]] += area[comp.vertices[j]] / comp.area;
+
+  // 3. One full Dijkstra per source, in parallel, summed in fixed point.
+  const double to_fixed = sampled.bound > 0 ? std::ldexp(1.0, 52) / sampled.bound : 0.0;
+  SEAM_TRY(const std::vector<std::int64_t> sums,
+           fixed_point_weighted_sums(graph, comp, local_of, sources, weight, to_fixed, threads, cancel));
   const double from_fixed = to_fixed > 0 ? 1.0 / (to_fixed * std::sqrt(comp.area)) : 0.0;
   std::vector<double> f(n);
-  for (std::size_t j = 0; j < n; ++j) f[j] = static_cast<double>(partial[0][j]) * from_fixed;
+  for (std::size_t j = 0; j < n; ++j) f[j] = static_cast<double>(sums[j]) * from_fixed;
   return f;
 }
 
@@ -302,31 +332,42 @@ std::uint64_t mix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
-                            const std::vector<double>& area, const CancelToken& cancel) {
+// Each vertex is a seed with probability proportional to its area, so cells have about
+// equal area on any tessellation; local vertex 0 when no vertex is drawn.
+std::vector<std::uint32_t> area_weighted_seeds(const Component& comp, const std::vector<double>& area) {
   const std::size_t n = comp.vertices.size();
   const double target = static_cast<double>(std::max(n / kVerticesPerCell, kCoarseCellsMin));
-  CoarseLevel level;
-  // Each vertex is a seed with probability proportional to its area, so cells have about
-  // equal area on any tessellation.
+  std::vector<std::uint32_t> seed;
   for (std::size_t j = 0; j < n; ++j) {
     const double u = static_cast<double>(mix(comp.vertices[j]) >> 11) * 0x1.0p-53;
-    if (u < area[comp.vertices[j]] * target / comp.area) level.seed.push_back(static_cast<std::uint32_t>(j));
+    if (u < area[comp.vertices[j]] * target / comp.area) seed.push_back(static_cast<std::uint32_t>(j));
   }
-  if (level.seed.empty()) level.seed.push_back(0);
-  const std::size_t m = level.seed.size();
+  if (seed.empty()) seed.push_back(0);
+  return seed;
+}
 
-  // Cells grow breadth-first from all seeds at once, each vertex joining the cell that
-  // reaches it in the fewest edges; `distance` is the length of that path. A cell is a few
-  // edges across, so hops are as good as geodesics here, and a FIFO queue is several times
-  // faster than a Dijkstra heap holding every seed's front at once.
-  std::vector<double> distance(n, kInf);
-  level.cell_of.assign(n, kNone);
-  std::vector<std::uint32_t> queue(level.seed.begin(), level.seed.end());
+struct GrownCells {
+  std::vector<std::uint32_t> cell_of;  // per local vertex: its cell
+  std::vector<double> distance;        // per local vertex: length of its path from its seed
+};
+
+// Cells grow breadth-first from all seeds at once, each vertex joining the cell that
+// reaches it in the fewest edges; `distance` is the length of that path. A cell is a few
+// edges across, so hops are as good as geodesics here, and a FIFO queue is several times
+// faster than a Dijkstra heap holding every seed's front at once.
+Result<GrownCells> grow_cells(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
+                              const std::vector<std::uint32_t>& seed, const CancelToken& cancel) {
+  const std::size_t n = comp.vertices.size();
+  const std::size_t m = seed.size();
+  GrownCells cells;
+  std::vector<double>& distance = cells.distance;
+  distance.assign(n, kInf);
+  cells.cell_of.assign(n, kNone);
+  std::vector<std::uint32_t> queue(seed.begin(), seed.end());
   queue.reserve(n);
   for (std::size_t c = 0; c < m; ++c) {
-    level.cell_of[level.seed[c]] = static_cast<std::uint32_t>(c);
-    distance[level.seed[c]] = 0.0;
+    cells.cell_of[seed[c]] = static_cast<std::uint32_t>(c);
+    distance[seed[c]] = 0.0;
   }
   std::uint32_t polls = 0;
   for (std::size_t head = 0; head < queue.size(); ++head) {
@@ -335,15 +376,20 @@ Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const
     const std::uint32_t gv = comp.vertices[v];
     for (std::uint32_t slot = graph.offsets[gv]; slot < graph.offsets[gv + 1]; ++slot) {
       const std::uint32_t w = local_of[graph.head[slot].index()];
-      if (level.cell_of[w] != kNone) continue;
-      level.cell_of[w] = level.cell_of[v];
+      if (cells.cell_of[w] != kNone) continue;
+      cells.cell_of[w] = cells.cell_of[v];
       distance[w] = distance[v] + graph.weight[slot];
       queue.push_back(w);
     }
   }
+  return cells;
+}
 
-  // Two cells are adjacent where a mesh edge crosses between them; the edge's weight is the
-  // shortest seed-to-seed path through such an edge.
+// The graph of `m` cells: two cells are adjacent where a mesh edge crosses between them; the
+// edge's weight is the shortest seed-to-seed path through such an edge.
+EdgeGraph cell_graph(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
+                     const GrownCells& cells, std::size_t m) {
+  const std::size_t n = comp.vertices.size();
   struct Link {
     std::uint32_t a, b;
     double weight;
@@ -351,11 +397,11 @@ Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const
   std::vector<Link> links;
   for (std::size_t j = 0; j < n; ++j) {
     const std::uint32_t gv = comp.vertices[j];
-    const std::uint32_t cj = level.cell_of[j];
+    const std::uint32_t cj = cells.cell_of[j];
     for (std::uint32_t slot = graph.offsets[gv]; slot < graph.offsets[gv + 1]; ++slot) {
       const std::uint32_t w = local_of[graph.head[slot].index()];
-      const std::uint32_t cw = level.cell_of[w];
-      if (cj < cw) links.push_back({cj, cw, distance[j] + graph.weight[slot] + distance[w]});
+      const std::uint32_t cw = cells.cell_of[w];
+      if (cj < cw) links.push_back({cj, cw, cells.distance[j] + graph.weight[slot] + cells.distance[w]});
     }
   }
   std::sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
@@ -363,7 +409,7 @@ Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const
   });
   links.erase(std::unique(links.begin(), links.end(), [](const Link& x, const Link& y) { return x.a == y.a && x.b == y.b; }),
               links.end());
-  EdgeGraph& cg = level.graph;
+  EdgeGraph cg;
   cg.offsets.assign(m + 1, 0);
   for (const Link& l : links) ++cg.offsets[l.a + 1], ++cg.offsets[l.b + 1];
   for (std::size_t c = 0; c < m; ++c) cg.offsets[c + 1] += cg.offsets[c];
@@ -374,6 +420,55 @@ Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const
     cg.head[slot[l.a]] = VertexId(l.b), cg.weight[slot[l.a]++] = l.weight;
     cg.head[slot[l.b]] = VertexId(l.a), cg.weight[slot[l.b]++] = l.weight;
   }
+  return cg;
+}
+
+// Distances from the first seed to the seeds, summed over the seeds whose exact distance is
+// final, exact (on the mesh, stopped after a quarter of the vertices) and on the cell graph.
+struct SeedDistanceSums {
+  double exact = 0;
+  double coarse = 0;
+};
+
+Result<SeedDistanceSums> seed_distance_sums(const EdgeGraph& graph, const Component& comp,
+                                            const std::vector<std::uint32_t>& local_of, const CoarseLevel& level,
+                                            const CancelToken& cancel) {
+  const std::size_t n = comp.vertices.size();
+  const std::size_t m = level.seed.size();
+  std::vector<double> exact(n, kInf), coarse(m, kInf);
+  auto nothing = [](std::uint32_t, std::uint32_t) {};
+  double settled_below = kInf;
+  {
+    IndexedHeap heap(exact, n);
+    if (auto st = relax_from(graph, comp, local_of, level.seed[0], exact, heap, cancel, nothing, n / 4, &settled_below);
+        !st.ok()) {
+      return st.take_error();
+    }
+  }
+  {
+    IndexedHeap heap(coarse, m);
+    if (auto st = relax_from(level.graph, level.cells, level.identity, 0u, coarse, heap, cancel, nothing); !st.ok()) {
+      return st.take_error();
+    }
+  }
+  SeedDistanceSums sums;
+  for (std::size_t c = 0; c < m; ++c) {
+    if (!(exact[level.seed[c]] < settled_below)) continue;  // not final
+    sums.exact += exact[level.seed[c]];
+    sums.coarse += coarse[c];
+  }
+  return sums;
+}
+
+Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
+                            const std::vector<double>& area, const CancelToken& cancel) {
+  const std::size_t n = comp.vertices.size();
+  CoarseLevel level;
+  level.seed = area_weighted_seeds(comp, area);
+  const std::size_t m = level.seed.size();
+  SEAM_TRY(GrownCells cells, grow_cells(graph, comp, local_of, level.seed, cancel));
+  level.graph = cell_graph(graph, comp, local_of, cells, m);
+  level.cell_of = std::move(cells.cell_of);
 
   level.identity.resize(m);
   std::iota(level.identity.begin(), level.identity.end(), 0u);
@@ -384,31 +479,9 @@ Result<CoarseLevel> coarsen(const EdgeGraph& graph, const Component& comp, const
   // one on the cell graph gives the ratio; scaling every cell edge by it keeps prominences
   // on the scale of the exact path.
   if (m > 1) {
-    std::vector<double> exact(n, kInf), coarse(m, kInf);
-    auto nothing = [](std::uint32_t, std::uint32_t) {};
-    double settled_below = kInf;
-    {
-      IndexedHeap heap(exact, n);
-      if (auto st = relax_from(graph, comp, local_of, level.seed[0], exact, heap, cancel, nothing, n / 4,
-                               &settled_below);
-          !st.ok()) {
-        return st.take_error();
-      }
-    }
-    {
-      IndexedHeap heap(coarse, m);
-      if (auto st = relax_from(cg, level.cells, level.identity, 0u, coarse, heap, cancel, nothing); !st.ok()) {
-        return st.take_error();
-      }
-    }
-    double sum_exact = 0, sum_coarse = 0;
-    for (std::size_t c = 0; c < m; ++c) {
-      if (!(exact[level.seed[c]] < settled_below)) continue;  // not final
-      sum_exact += exact[level.seed[c]];
-      sum_coarse += coarse[c];
-    }
-    if (sum_coarse > 0 && sum_exact > 0) {
-      for (double& w : cg.weight) w *= sum_exact / sum_coarse;
+    SEAM_TRY(const SeedDistanceSums sums, seed_distance_sums(graph, comp, local_of, level, cancel));
+    if (sums.coarse > 0 && sums.exact > 0) {
+      for (double& w : level.graph.weight) w *= sums.exact / sums.coarse;
     }
   }
   level.cells.area = comp.area;
