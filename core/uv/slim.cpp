@@ -306,8 +306,8 @@ class ProxySystem {
 
   // The minimiser of the factorized proxy (as `direction`: `free` = A^-1 r) subject to the
   // contacts as inequalities n . (relative motion) >= h, by their Schur complement
-  // S = G A^-1 G^T with the step's own factor: one solve per contact, then one for the
-  // correction, no refactorization. Empty if not finite.
+  // S = G A^-1 G^T with the step's own factor: one half-solve on its elimination-tree reach per
+  // contact, then one whole solve for the correction, no refactorization. Empty if not finite.
   std::vector<Vec2> constrained(const std::vector<Vec2>& free, const std::vector<Contact>& contacts) {
     const auto m = static_cast<Eigen::Index>(contacts.size());
     Eigen::VectorXd violation(m);
@@ -317,8 +317,7 @@ class ProxySystem {
       for (int k = 0; k < 3; ++k) rel += c.w[k].dot(free[c.v[k]]);
       violation(i) = rel - c.h;
     }
-    const Eigen::VectorXd lambda =
-        active_multipliers(solver_.supernodal() ? contact_schur(contacts) : contact_schur_sparse(contacts), violation);
+    const Eigen::VectorXd lambda = active_multipliers(contact_schur(contacts), violation);
     if (!lambda.allFinite()) return {};
     Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), rhs_.cols());
     for (Eigen::Index j = 0; j < m; ++j) {
@@ -375,44 +374,6 @@ class ProxySystem {
     for_each_entry(c, comp, [&](Eigen::Index row, double w) { g(row, col) += scale * w; });
   }
 
-  // The contact's row (component `comp` with the isotropic proxy) applied to column `col` of y.
-  double row_times(const Contact& c, const Eigen::MatrixXd& y, Eigen::Index col, int comp) const {
-    double sum = 0;
-    for_each_entry(c, comp, [&](Eigen::Index row, double w) { sum += w * y(row, col); });
-    return sum;
-  }
-
-  // S = G A^-1 G^T, solved one contact at a time (2 right-hand sides with the isotropic proxy,
-  // 10 MB at 1.25M faces): chunks of 2 contacts set the default job's peak at 1.25M faces (993
-  // MiB against 935 MiB, memory-bench --levels 3) and were no faster (76-82 s against 61-64 s).
-  // With the isotropic proxy a contact's row is G_u on u and G_v on v, so
-  // S_ij = G_u,i A^-1 G_u,j^T + G_v,i A^-1 G_v,j^T: two solves per contact.
-  Eigen::MatrixXd contact_schur(const std::vector<Contact>& contacts) const {
-    const auto m = static_cast<Eigen::Index>(contacts.size());
-    const int parts = block_ == 1 ? 2 : 1;
-    Eigen::MatrixXd s(m, m);
-    constexpr Eigen::Index kChunk = 1;
-    for (Eigen::Index first = 0; first < m; first += kChunk) {
-      const Eigen::Index count = std::min(kChunk, m - first);
-      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs_.rows(), parts * count);
-      for (Eigen::Index j = 0; j < count; ++j) {
-        for (int comp = 0; comp < parts; ++comp) {
-          add_row(g, parts * j + comp, contacts[static_cast<std::size_t>(first + j)], 1.0, comp);
-        }
-      }
-      const Eigen::MatrixXd w = solver_.solve(g);
-      for (Eigen::Index i = 0; i < m; ++i) {
-        const Contact& ci = contacts[static_cast<std::size_t>(i)];
-        for (Eigen::Index j = 0; j < count; ++j) {
-          double e = 0;
-          for (int comp = 0; comp < parts; ++comp) e += row_times(ci, w, parts * j + comp, comp);
-          s(i, first + j) = e;
-        }
-      }
-    }
-    return s;
-  }
-
   // The contact's row (component `comp` with the isotropic proxy) as (unknown, coefficient).
   std::vector<std::pair<int, double>> row_entries(const Contact& c, int comp) const {
     std::vector<std::pair<int, double>> entries;
@@ -420,11 +381,13 @@ class ProxySystem {
     return entries;
   }
 
-  // S as contact_schur, with a simplicial factor: S_ij = sum over the parts of
-  // (L^-1 P g_i) . (L^-1 P g_j), each half-solve computed on the reach of the contact's few
-  // unknowns in the elimination tree only (SparseCholesky::half_solve_sparse), where
-  // contact_schur runs two whole solves per contact. NaN where CHOLMOD fails.
-  Eigen::MatrixXd contact_schur_sparse(const std::vector<Contact>& contacts) {
+  // S = G A^-1 G^T, S_ij = sum over the parts of (L^-1 P g_i) . (L^-1 P g_j) (with the
+  // isotropic proxy a contact's row is G_u on u and G_v on v: two parts), each half-solve on
+  // the reach of the contact's few unknowns in the elimination tree only
+  // (SparseCholesky::half_solve_sparse). Whole solves, two per contact, took 24 of the 36 s of
+  // SLIM on camel x64's 1.25M-face chart (every step there is contact-limited). NaN where
+  // CHOLMOD fails.
+  Eigen::MatrixXd contact_schur(const std::vector<Contact>& contacts) {
     const auto m = static_cast<Eigen::Index>(contacts.size());
     const int parts = block_ == 1 ? 2 : 1;
     std::vector<std::vector<std::pair<int, double>>> half(static_cast<std::size_t>(m * parts));

@@ -74,16 +74,89 @@ SparseCholesky::~SparseCholesky() {
 }
 
 std::vector<std::pair<int, double>> SparseCholesky::half_solve_sparse(std::span<const std::pair<int, double>> b) {
-  SEAM_ASSERT(m_cholmodFactor != nullptr && m_factorizationIsOk && m_cholmodFactor->is_super == 0 &&
-              m_cholmodFactor->is_ll != 0);
+  SEAM_ASSERT(m_cholmodFactor != nullptr && m_factorizationIsOk && m_cholmodFactor->is_ll != 0);
   const auto n = static_cast<int>(m_cholmodFactor->n);
+  if (position_.empty()) {
+    position_.assign(static_cast<std::size_t>(n), 0);
+    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+    for (int i = 0; i < n; ++i) position_[static_cast<std::size_t>(perm ? perm[i] : i)] = i;
+  }
+  return m_cholmodFactor->is_super != 0 ? half_solve_supernodal(b) : half_solve_simplicial(b);
+}
+
+// Column-oriented forward substitution restricted to the supernodes that y can reach: those
+// holding b's rows and their ancestors (every row below a supernode's columns belongs to an
+// ancestor's). Each supernode is a dense column-major block of nsrow x nscol, its first
+// nscol rows the lower triangle of its own columns. Reach supernodes in increasing order are
+// a topological order (a parent's columns come after its children's).
+std::vector<std::pair<int, double>> SparseCholesky::half_solve_supernodal(std::span<const std::pair<int, double>> b) {
+  const cholmod_factor& f = *m_cholmodFactor;
+  const auto nsuper = static_cast<int>(f.nsuper);
+  const int* super = static_cast<const int*>(f.super);
+  const int* pi = static_cast<const int*>(f.pi);
+  const int* px = static_cast<const int*>(f.px);
+  const int* rows = static_cast<const int*>(f.s);
+  const auto* x = static_cast<const double*>(f.x);
+  if (supernode_of_.empty()) {
+    supernode_of_.assign(f.n, 0);
+    parent_.assign(static_cast<std::size_t>(nsuper), -1);
+    for (int sn = 0; sn < nsuper; ++sn) {
+      for (int k = super[sn]; k < super[sn + 1]; ++k) supernode_of_[static_cast<std::size_t>(k)] = sn;
+    }
+    for (int sn = 0; sn < nsuper; ++sn) {
+      const int nscol = super[sn + 1] - super[sn];
+      if (pi[sn] + nscol < pi[sn + 1]) {
+        parent_[static_cast<std::size_t>(sn)] = supernode_of_[static_cast<std::size_t>(rows[pi[sn] + nscol])];
+      }
+    }
+    work_.assign(f.n, 0.0);
+    in_reach_.assign(static_cast<std::size_t>(nsuper), 0);
+  }
+  std::vector<int> reach;
+  for (const auto& [unknown, value] : b) {
+    const int row = position_[static_cast<std::size_t>(unknown)];
+    work_[static_cast<std::size_t>(row)] = value;
+    for (int sn = supernode_of_[static_cast<std::size_t>(row)]; sn >= 0 && !in_reach_[static_cast<std::size_t>(sn)];
+         sn = parent_[static_cast<std::size_t>(sn)]) {
+      in_reach_[static_cast<std::size_t>(sn)] = 1;
+      reach.push_back(sn);
+    }
+  }
+  std::sort(reach.begin(), reach.end());
+  std::vector<std::pair<int, double>> y;
+  for (int sn : reach) {
+    in_reach_[static_cast<std::size_t>(sn)] = 0;
+    const int k1 = super[sn];
+    const int nscol = super[sn + 1] - k1;
+    const int nsrow = pi[sn + 1] - pi[sn];
+    const int* sn_rows = rows + pi[sn];
+    const double* block = x + px[sn];
+    for (int j = 0; j < nscol; ++j) {
+      const double* column = block + static_cast<std::ptrdiff_t>(j) * nsrow;
+      double& yj = work_[static_cast<std::size_t>(k1 + j)];
+      yj /= column[j];
+      if (yj == 0.0) continue;
+      for (int r = j + 1; r < nsrow; ++r) work_[static_cast<std::size_t>(sn_rows[r])] -= column[r] * yj;
+    }
+    for (int j = 0; j < nscol; ++j) {
+      double& yj = work_[static_cast<std::size_t>(k1 + j)];
+      y.emplace_back(k1 + j, yj);
+      yj = 0.0;  // work_ is all zero between calls
+    }
+  }
+  return y;
+}
+
+std::vector<std::pair<int, double>> SparseCholesky::half_solve_simplicial(std::span<const std::pair<int, double>> b) {
+  const auto n = static_cast<int>(m_cholmodFactor->n);
+  if (b_ != nullptr && b_->nrow != static_cast<std::size_t>(n)) {  // analysed anew at another size
+    cholmod_free_dense(&b_, &cholmod());
+    cholmod_free_sparse(&b_set_, &cholmod());
+  }
   if (b_ == nullptr) {
     b_ = cholmod_zeros(static_cast<std::size_t>(n), 1, CHOLMOD_REAL, &cholmod());
     b_set_ = cholmod_allocate_sparse(static_cast<std::size_t>(n), 1, static_cast<std::size_t>(n), 1, 1, 0,
                                      CHOLMOD_PATTERN, &cholmod());
-    position_.assign(static_cast<std::size_t>(n), 0);
-    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
-    for (int i = 0; i < n; ++i) position_[static_cast<std::size_t>(perm ? perm[i] : i)] = i;
   }
   if (b_ == nullptr || b_set_ == nullptr) return {};
   auto* bx = static_cast<double*>(b_->x);

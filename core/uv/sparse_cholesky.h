@@ -79,6 +79,8 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   void use_order(std::vector<int> perm) { order_ = std::move(perm); }
 
   void analyzePattern(const Eigen::SparseMatrix<double>& matrix) {
+    position_.clear();  // a new analysis: a new permutation and new supernodes
+    supernode_of_.clear();
     if (static_cast<Eigen::Index>(order_.size()) == matrix.rows() && matrix.rows() > 0) {
       analyze_with_order(matrix);
       return;
@@ -106,12 +108,13 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
 
   /// y = L^-1 P b, half of a solve (A = P^T L L^T P), so that b^T A^-1 c = y_b . y_c: for a
   /// right-hand side with few nonzeros, computed on the reach of their pattern in the
-  /// elimination tree only (CHOLMOD's partial solve, cholmod_solve2 with Bset), typically a
-  /// small part of the n unknowns. `b` lists (unknown, value) with distinct unknowns. Returns
-  /// y's nonzeros as (row in the factor's order, value), rows increasing. Preconditions
-  /// (SEAM_ASSERT): a successful factorize() of a simplicial factor (supernodal() false: CHOLMOD
-  /// would convert a supernodal one). Empty when CHOLMOD fails. Keeps its workspace (four
-  /// vectors of n doubles) between calls.
+  /// elimination tree only, typically a small part of the n unknowns: CHOLMOD's partial solve
+  /// (cholmod_solve2 with Bset) for a simplicial factor, a forward substitution over the reach's
+  /// supernodes for a supernodal one (CHOLMOD would convert the factor). `b` lists (unknown,
+  /// value) with distinct unknowns. Returns y's nonzeros as (row in the factor's order, value),
+  /// rows increasing. Precondition (SEAM_ASSERT): a successful factorize(). Empty when CHOLMOD
+  /// fails. Keeps its workspace (up to four vectors of n doubles) between calls; the reach is
+  /// cached per analysis.
   std::vector<std::pair<int, double>> half_solve_sparse(std::span<const std::pair<int, double>> b);
 
  private:
@@ -131,6 +134,9 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
 
   // Base::analyzePattern with cholmod_analyze_p and the given order (Eigen has no such call).
   void analyze_with_order(const Eigen::SparseMatrix<double>& matrix);
+  // half_solve_sparse's two kinds; position_ filled.
+  std::vector<std::pair<int, double>> half_solve_simplicial(std::span<const std::pair<int, double>> b);
+  std::vector<std::pair<int, double>> half_solve_supernodal(std::span<const std::pair<int, double>> b);
 
   Eigen::Index nested_dissection_min_ = -1;  // -1: never
   std::vector<int> order_;                   // use_order(); empty: CHOLMOD orders
@@ -142,6 +148,12 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   cholmod_dense* y_ = nullptr;
   cholmod_dense* e_ = nullptr;
   std::vector<int> position_;  // unknown -> row in the factor's order
+  // Supernodal factors: the supernode of each row, each supernode's parent in the supernodal
+  // elimination tree (-1 at a root), the dense work vector and a mark per supernode.
+  std::vector<int> supernode_of_;
+  std::vector<int> parent_;
+  std::vector<double> work_;
+  std::vector<char> in_reach_;
 };
 
 }  // namespace seam::core

@@ -260,35 +260,47 @@ TEST_CASE("one nested dissection, restricted to subsets of the unknowns, orders 
 }
 
 TEST_CASE("half solves on the reach of a sparse right-hand side give b^T A^-1 c exactly as whole solves do") {
-  const int m = 40;
-  const Eigen::SparseMatrix<double> a = grid_laplacian(m, 2, 0.01);
-  SparseCholesky solver(a);
-  REQUIRE(solver.info() == Eigen::Success);
-  REQUIRE_FALSE(solver.supernodal());
-  // Right-hand sides with three nonzeros each, as a boundary contact's row: a vertex and an edge.
-  const std::vector<std::vector<std::pair<int, double>>> rows = {
-      {{5, 1.0}, {6, -0.5}, {45, -0.5}}, {{820, 0.3}, {821, 0.7}, {861, -1.0}}, {{1599, 2.0}, {0, -1.0}, {799, 0.25}}};
-  std::vector<std::vector<std::pair<int, double>>> half;
-  for (const auto& row : rows) {
-    half.push_back(solver.half_solve_sparse(row));
-    REQUIRE_FALSE(half.back().empty());
-    CHECK(std::is_sorted(half.back().begin(), half.back().end()));
-    CHECK(half.back().size() < static_cast<std::size_t>(a.rows()));  // the reach, not the whole
-  }
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(a.rows());
-    for (const auto& [k, v] : rows[i]) b[k] = v;
-    const Eigen::VectorXd x = solver.solve(b);
-    for (std::size_t j = 0; j < rows.size(); ++j) {
-      double expected = 0;
-      for (const auto& [k, v] : rows[j]) expected += v * x[k];
-      double got = 0;
-      for (const auto& [r, v] : half[i]) {
-        for (const auto& [q, w] : half[j]) got += r == q ? v * w : 0.0;
+  // A 2D grid (a simplicial factor: CHOLMOD's partial solve) and a 3D one (a supernodal
+  // factor: the reach's supernodes).
+  const Eigen::SparseMatrix<double> flat = grid_laplacian(40, 2, 0.01);
+  const Eigen::SparseMatrix<double> solid = grid_laplacian(30, 3, 0.01);
+  for (const Eigen::SparseMatrix<double>* a : {&flat, &solid}) {
+    SparseCholesky solver(*a);
+    REQUIRE(solver.info() == Eigen::Success);
+    REQUIRE(solver.supernodal() == (a == &solid));
+    CAPTURE(solver.supernodal());
+    // Right-hand sides with three nonzeros each, as a boundary contact's row: a vertex and an edge.
+    const std::vector<std::vector<std::pair<int, double>>> rows = {{{5, 1.0}, {6, -0.5}, {45, -0.5}},
+                                                                   {{820, 0.3}, {821, 0.7}, {861, -1.0}},
+                                                                   {{1599, 2.0}, {0, -1.0}, {799, 0.25}}};
+    // Twice: the values of a second factorization on the same analysis are used.
+    for (double scale : {1.0, 3.0}) {
+      CAPTURE(scale);
+      solver.factorize(*a * scale);
+      REQUIRE(solver.info() == Eigen::Success);
+      std::vector<std::vector<std::pair<int, double>>> half;
+      for (const auto& row : rows) {
+        half.push_back(solver.half_solve_sparse(row));
+        REQUIRE_FALSE(half.back().empty());
+        CHECK(std::is_sorted(half.back().begin(), half.back().end()));
+        CHECK(half.back().size() < static_cast<std::size_t>(a->rows()));  // the reach, not the whole
       }
-      CAPTURE(i);
-      CAPTURE(j);
-      CHECK(got == doctest::Approx(expected).epsilon(1e-12));
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        Eigen::VectorXd b = Eigen::VectorXd::Zero(a->rows());
+        for (const auto& [k, v] : rows[i]) b[k] = v;
+        const Eigen::VectorXd x = solver.solve(b);
+        for (std::size_t j = 0; j < rows.size(); ++j) {
+          double expected = 0;
+          for (const auto& [k, v] : rows[j]) expected += v * x[k];
+          double got = 0;
+          for (const auto& [r, v] : half[i]) {
+            for (const auto& [q, w] : half[j]) got += r == q ? v * w : 0.0;
+          }
+          CAPTURE(i);
+          CAPTURE(j);
+          CHECK(got == doctest::Approx(expected).epsilon(1e-12));
+        }
+      }
     }
   }
 }
