@@ -242,10 +242,11 @@ Result<std::vector<Vec2>> flatten_bff(const DiscPatch& patch, const CancelToken&
   const SplitLaplacian a = split_laplacian(patch, index);
   if (cancel.is_cancelled()) return cancelled_error("BFF assembly");
   // A_II is the Dirichlet Laplacian of a connected disc: positive definite, so LL^T applies.
-  // Nested dissection: one factorization serves four solves, and its 20% smaller factor is what
-  // the default job's peak memory depends on (sparse_cholesky.h).
+  // In the order given (SLIM's, whose nested dissection keeps the default job's peak memory in
+  // bounds), else CHOLMOD's own (AMD): for one factorization METIS's analysis costs more than
+  // its smaller factor saves, since CHOLMOD's regions run inline (uv: bff at 1.07M faces 4.5 ->
+  // 2.2 s; at 1.25M faces the job 9.1 -> 6.5 s, peak 872 -> 920 MiB, below the default job's).
   SparseCholesky solver;
-  solver.prefer_nested_dissection();
   if (!vertex_order.empty()) solver.use_order(restrict_order(vertex_order, index.interior));
   SEAM_TRY(const Eigen::VectorXd target_k, target_exterior_angles(patch, index, a, angle_sum, solver, cancel));
   SEAM_TRY(const std::vector<Vec2> curve, boundary_curve(patch, target_k));

@@ -25,8 +25,7 @@ namespace seam::core {
 /// Returns one UV per local vertex, counter-clockwise, at 3D scale (not yet fitted).
 /// `vertex_order`, when not empty, is a fill-reducing order of the patch's vertices (e.g.
 /// nested_dissection_order of its vertex graph, shared with SLIM's proxy): A_II is factored in
-/// that order restricted to the interior instead of ordering it anew (nested dissection from
-/// SparseCholesky::kNestedDissectionMin unknowns, AMD below). Precondition: empty or a
+/// that order restricted to the interior instead of ordering it anew (by AMD). Precondition: empty or a
 /// permutation of the patch's vertices.
 /// Errors: kInvalidArgument (a vertex_order of another size), kSolverFailed, kCancelled. Complexity: one sparse
 /// Cholesky of A_II plus 3 solves.
