@@ -146,10 +146,10 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
     if (auto e = cli::set_positional(args, "out", args.positional[1], "OUT")) return usage(err, *e);
   }
   if (args.own.count("in") == 0) return usage(err, cli::usage_error("in", "seam needs an input: seamd seam IN [OUT]"));
+  const std::string in_path = args.own["in"];
   // The process's settings, before anything is read: a second start must find stdin (IN `-`,
   // `--params @/dev/stdin`) and every file as the first one did.
   if (context.reexec_argv != nullptr) {
-    const std::string& in_path = args.own["in"];
     std::error_code ec;
     const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
     if (!ec && size >= kHugePageInputBytes) {
@@ -160,7 +160,7 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
     core::use_single_threaded_solvers();  // before the job starts threads of its own
   }
 
-  if (args.own["in"] == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
+  if (in_path == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
     return usage(err, cli::usage_error("params", "stdin cannot be both IN and --params @-"));
   }
   json merged;
@@ -197,7 +197,6 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
                                                 "or give an OUT file"));
     }
   }
-  const std::string& in_path = args.own["in"];
   auto bytes = cli::read_input(in_path, in);
   if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);
   auto asset = cli::load_asset(std::move(bytes).value(), in_path);

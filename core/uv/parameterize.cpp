@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <utility>
 
 #include "core/atlas/overlap.h"
 #include "core/mesh/topology.h"
@@ -55,7 +56,7 @@ std::vector<int> shared_vertex_order(const DiscPatch& patch) {
   Eigen::SparseMatrix<double> lower(n, n);
   lower.setFromTriplets(entries.begin(), entries.end());
   entries = {};
-  return nested_dissection_order(lower);
+  return nested_dissection_order(std::move(lower));
 }
 
 double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {

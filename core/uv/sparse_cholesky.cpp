@@ -198,14 +198,13 @@ void SparseCholesky::analyze_with_order(const Eigen::SparseMatrix<double>& matri
   m_factorizationIsOk = false;
 }
 
-std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& lower) {
+std::vector<int> nested_dissection_order(Eigen::SparseMatrix<double> lower) {
   if (lower.rows() == 0 || lower.rows() != lower.cols()) return {};
   cholmod_common common;
   cholmod_start(&common);
   common.print = 0;
-  Eigen::SparseMatrix<double> compressed = lower;
-  compressed.makeCompressed();
-  const Eigen::SparseMatrix<double>& view = compressed;
+  lower.makeCompressed();  // CHOLMOD reads packed columns; a no-op for a setFromTriplets result
+  const Eigen::SparseMatrix<double>& view = lower;
   cholmod_sparse a = Eigen::viewAsCholmod(view.selfadjointView<Eigen::Lower>());
   std::vector<int> order(static_cast<std::size_t>(lower.rows()));
   const int ok = cholmod_metis(&a, nullptr, 0, 1, order.data(), &common);

@@ -30,8 +30,9 @@ void use_single_threaded_solvers();
 /// on a 533k-unknown grid), and an order restricted to a subset of the unknowns
 /// (restrict_order) is still a nested dissection of the subgraph they induce, since removing
 /// vertices keeps every separator a separator. Empty if CHOLMOD fails (out of memory).
+/// Takes the matrix by value: a caller done with it moves it in, no copy.
 /// Complexity: METIS's, about O(nnz log n).
-std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& lower);
+std::vector<int> nested_dissection_order(Eigen::SparseMatrix<double> lower);
 
 /// `order` (over n items) restricted to the items that are unknowns of a smaller system:
 /// unknown_of[item] is the item's unknown, or negative for none. The unknowns keep their
