@@ -8,7 +8,11 @@ shift || true
 jobs="${SEAM_JOBS:-2}"
 case "$flavour" in
   release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
-  asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DSEAM_SANITIZE=address;undefined") ;;
+  # -Og -g1 rather than RelWithDebInfo's -O2 -g: GCC's -O2 over UBSan's checks made this build
+  # 2.3x slower to compile (2,664 against 1,159 CPU-seconds, a cold build on 2 cores), while
+  # the sanitizer tests run 10-25% longer. -g1 keeps the line tables the reports print.
+  asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g1 -DNDEBUG"
+              "-DSEAM_SANITIZE=address;undefined") ;;
   *) echo "usage: scripts/build.sh release|asan [cmake args]" >&2; exit 2 ;;
 esac
 # Explicit defaults, so options cached by an earlier configure never leak into this one;
