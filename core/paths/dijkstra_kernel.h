@@ -18,9 +18,11 @@
 
 namespace seam::core {
 
-/// A binary min-heap of (key, vertex) with lazy deletion: a vertex may be pushed again with
+/// A 4-ary min-heap of (key, vertex) with lazy deletion: a vertex may be pushed again with
 /// a smaller key and its older entries are popped later and skipped by the visitor (stale).
 /// Ties are ordered by vertex index, like IndexedHeap, so both settle vertices in one order.
+/// Any min-heap over this total order pops the same sequence; four children per node make
+/// the tree half as deep as a binary heap's, and a node's children share a cache line.
 class LazyHeap {
  public:
   using Entry = std::pair<double, std::uint32_t>;
@@ -29,23 +31,54 @@ class LazyHeap {
   void clear() { heap_.clear(); }
   void push(double key, std::uint32_t v) {
     heap_.emplace_back(key, v);
-    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+    sift_up(heap_.size() - 1, heap_.back());
   }
   const Entry& top() const { return heap_.front(); }
   Entry pop() {
-    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-    const Entry top = heap_.back();
+    const Entry top = heap_.front();
+    const Entry last = heap_.back();
     heap_.pop_back();
+    if (!heap_.empty()) {
+      // The hole at the root sinks to a leaf along the least children, then the last entry
+      // rises from there: it usually belongs near the bottom, so this compares less than
+      // sinking it from the root.
+      std::size_t hole = 0;
+      const std::size_t n = heap_.size();
+      for (std::size_t first = 1; first < n; first = kArity * hole + 1) {
+        const std::size_t end = std::min(first + kArity, n);
+        std::size_t least = first;
+        for (std::size_t c = first + 1; c < end; ++c) {
+          if (heap_[c] < heap_[least]) least = c;
+        }
+        heap_[hole] = heap_[least];
+        hole = least;
+      }
+      sift_up(hole, last);
+    }
     return top;
   }
   /// Adds `delta(v)` to every key and restores the heap order (A* re-keying of sources).
   template <class Delta>
   void rekey(Delta&& delta) {
-    for (auto& entry : heap_) entry.first += delta(entry.second);
-    std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
+    const std::vector<Entry> entries = heap_;
+    heap_.clear();
+    for (const auto& [key, v] : entries) push(key + delta(v), v);
   }
 
  private:
+  static constexpr std::size_t kArity = 4;
+
+  // Places `entry` at hole i or above it.
+  void sift_up(std::size_t i, Entry entry) {
+    while (i > 0) {
+      const std::size_t parent = (i - 1) / kArity;
+      if (!(entry < heap_[parent])) break;
+      heap_[i] = heap_[parent];
+      i = parent;
+    }
+    heap_[i] = entry;
+  }
+
   std::vector<Entry> heap_;
 };
 

@@ -1,14 +1,16 @@
+#include "core/paths/path_search.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <limits>
 #include <numeric>
+#include <random>
+#include <set>
 #include <type_traits>
 #include <utility>
-#include <random>
 #include <vector>
 
-#include "core/paths/path_search.h"
 #include "fixtures.h"
 
 using namespace seam::core;
@@ -226,4 +228,42 @@ TEST_CASE("run_dijkstra settles by (distance, vertex id) with every heap, from s
     for (const auto& [d, v] : seeds) dist[v] = d;
     check(heap, dist, "SeededHeap");
   }
+}
+
+TEST_CASE("LazyHeap pops in (key, vertex) order under interleaved pushes, pops, ties and re-keying") {
+  // The oracle is a sorted multiset of the same entries. Keys from a small range make many
+  // ties, which the heap must break by vertex id; the same (key, vertex) may be pushed twice.
+  std::mt19937 rng(11);
+  LazyHeap heap;
+  std::multiset<std::pair<double, std::uint32_t>> oracle;
+  std::size_t popped = 0;
+  for (int round = 0; round < 4000; ++round) {
+    const unsigned action = rng() % 10;
+    if (action < 6 || oracle.empty()) {
+      const double key = static_cast<double>(rng() % 50) * 0.5;
+      const auto v = static_cast<std::uint32_t>(rng() % 200);
+      heap.push(key, v);
+      oracle.emplace(key, v);
+    } else if (action < 9) {
+      REQUIRE(!heap.empty());
+      CHECK(heap.top() == *oracle.begin());
+      CHECK(heap.pop() == *oracle.begin());
+      oracle.erase(oracle.begin());
+      ++popped;
+    } else {
+      // A* re-keying: every key grows by a function of its vertex.
+      auto delta = [](std::uint32_t v) { return static_cast<double>(v % 7) * 0.25; };
+      heap.rekey(delta);
+      std::multiset<std::pair<double, std::uint32_t>> rekeyed;
+      for (const auto& [key, v] : oracle) rekeyed.emplace(key + delta(v), v);
+      oracle.swap(rekeyed);
+    }
+    CHECK(heap.empty() == oracle.empty());
+  }
+  while (!oracle.empty()) {
+    CHECK(heap.pop() == *oracle.begin());
+    oracle.erase(oracle.begin());
+  }
+  CHECK(heap.empty());
+  CHECK(popped > 1000);
 }
