@@ -20,19 +20,6 @@ double signed_area(const DiscPatch& patch, const std::vector<Vec2>& uv, std::siz
   return 0.5 * (a.x() * b.y() - a.y() * b.x());
 }
 
-// Largest relative difference between an edge's UV length and its 3D length.
-double max_edge_length_error(const DiscPatch& patch, const std::vector<Vec2>& uv) {
-  double worst = 0;
-  for (const Triangle& t : patch.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const double l3 = (patch.positions[t[(k + 1) % 3]] - patch.positions[t[k]]).norm();
-      const double l2 = (uv[t[(k + 1) % 3]] - uv[t[k]]).norm();
-      worst = std::max(worst, std::abs(l2 - l3) / l3);
-    }
-  }
-  return worst;
-}
-
 }  // namespace
 
 TEST_CASE("BFF returns a planar disc congruent to itself") {
@@ -42,7 +29,7 @@ TEST_CASE("BFF returns a planar disc congruent to itself") {
   auto uv = flatten_bff(patch, CancelToken::none());
   REQUIRE(uv.ok());
   REQUIRE(uv->size() == patch.num_vertices());
-  CHECK(max_edge_length_error(patch, *uv) < 1e-9);
+  CHECK(fx::max_edge_length_error(patch, *uv) < 1e-9);
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) CHECK(signed_area(patch, *uv, t) > 0);
 }
 
@@ -60,7 +47,7 @@ TEST_CASE("BFF flattens a curved cap conformally, better on a finer mesh") {
     CHECK(angle_error < 0.05);
     CHECK(angle_error < 0.6 * previous_error);  // first order: halves as the mesh is halved
     previous_error = angle_error;
-    CHECK(max_edge_length_error(patch, *uv) > 0.05);
+    CHECK(fx::max_edge_length_error(patch, *uv) > 0.05);
     // u = 0 on the boundary: boundary edges keep their 3D lengths, but for the change that
     // closes the integrated curve, which the cap's rotational symmetry makes zero.
     double relative = 0;

@@ -62,6 +62,19 @@ std::array<double, 3> corner_angles_of(const P& a, const P& b, const P& c) {
   return angles;
 }
 
+// Largest relative difference between an edge's UV length and its 3D length.
+inline double max_edge_length_error(const core::DiscPatch& patch, const std::vector<core::Vec2>& uv) {
+  double worst = 0;
+  for (const core::Triangle& t : patch.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const double l3 = (patch.positions[t[(k + 1) % 3]] - patch.positions[t[k]]).norm();
+      const double l2 = (uv[t[(k + 1) % 3]] - uv[t[k]]).norm();
+      worst = std::max(worst, std::abs(l2 - l3) / l3);
+    }
+  }
+  return worst;
+}
+
 /// Mean absolute difference (radians) between the corner angles of each UV triangle and of its
 /// 3D triangle: 0 for a conformal map of a planar mesh, small for a conformal flattening.
 inline double mean_angle_error(const core::DiscPatch& patch, const std::vector<core::Vec2>& uv) {
