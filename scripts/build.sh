@@ -9,7 +9,7 @@ jobs="${SEAM_JOBS:-2}"
 case "$flavour" in
   release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
   # -Og -g1 rather than RelWithDebInfo's -O2 -g: GCC's -O2 over UBSan's checks made this build
-  # 2.3x slower to compile (2,664 against 1,159 CPU-seconds, a cold build on 2 cores), while
+  # 2.1x slower to compile (2,664 against 1,252 CPU-seconds, a cold build on 2 cores), while
   # the sanitizer tests run 10-25% longer. -g1 keeps the line tables the reports print.
   asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g1 -DNDEBUG"
               "-DSEAM_SANITIZE=address;undefined") ;;
