@@ -60,9 +60,9 @@ class LazyHeap {
   /// Adds `delta(v)` to every key and restores the heap order (A* re-keying of sources).
   template <class Delta>
   void rekey(Delta&& delta) {
-    const std::vector<Entry> entries = heap_;
-    heap_.clear();
-    for (const auto& [key, v] : entries) push(key + delta(v), v);
+    for (auto& entry : heap_) entry.first += delta(entry.second);
+    // Heap order by insertion, in place: entries [0, i) are a heap when entry i rises.
+    for (std::size_t i = 1; i < heap_.size(); ++i) sift_up(i, heap_[i]);
   }
 
  private:
