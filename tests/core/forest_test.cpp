@@ -166,6 +166,20 @@ void check_properties(const Oracle& oracle, const std::vector<EdgeId>& edges, co
   }
 }
 
+// One weight per edge of `mesh`, uniform in [low, high).
+std::vector<double> random_weights(const HalfedgeMesh& mesh, double low, double high, std::mt19937& rng) {
+  std::uniform_real_distribution<double> uniform(low, high);
+  std::vector<double> weights(mesh.num_edges());
+  for (double& w : weights) w = uniform(rng);
+  return weights;
+}
+
+double total_weight(const std::vector<EdgeId>& edges, const std::vector<double>& weights) {
+  double total = 0;
+  for (EdgeId e : edges) total += weights[e.index()];
+  return total;
+}
+
 std::vector<EdgeId> random_edges(const HalfedgeMesh& mesh, std::size_t count, std::mt19937& rng) {
   std::vector<EdgeId> all;
   for (std::size_t e = 0; e < mesh.num_edges(); ++e) all.push_back(EdgeId(e));
@@ -179,11 +193,9 @@ std::vector<EdgeId> random_edges(const HalfedgeMesh& mesh, std::size_t count, st
 TEST_CASE("forest: keeping every vertex gives the minimum spanning forest, equal to brute force over all subsets") {
   const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(0));
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> uniform(0.5, 2.0);
   for (int trial = 0; trial < 12; ++trial) {
     CAPTURE(trial);
-    std::vector<double> weights(mesh.num_edges());
-    for (double& w : weights) w = uniform(rng);
+    const std::vector<double> weights = random_weights(mesh, 0.5, 2.0, rng);
     const std::vector<EdgeId> edges = random_edges(mesh, 10 + trial % 5, rng);
     std::vector<VertexId> keep;
     for (std::size_t v = 0; v < mesh.num_vertices(); ++v) keep.push_back(VertexId(v));
@@ -205,24 +217,18 @@ TEST_CASE("forest: keeping every vertex gives the minimum spanning forest, equal
         if (mask & (1u << i)) subset.push_back(edges[i]);
       }
       if (!oracle.is_forest(subset) || oracle.components(subset) != target) continue;
-      double w = 0;
-      for (EdgeId e : subset) w += weights[e.index()];
-      best = std::min(best, w);
+      best = std::min(best, total_weight(subset, weights));
     }
-    double got = 0;
-    for (EdgeId e : out) got += weights[e.index()];
-    CHECK(got == doctest::Approx(best).epsilon(1e-12));
+    CHECK(total_weight(out, weights) == doctest::Approx(best).epsilon(1e-12));
   }
 }
 
 TEST_CASE("forest: equals Kruskal then leaf peeling written in the test, with random keep sets") {
   const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(2));
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> uniform(0.1, 1.0);
   for (int trial = 0; trial < 30; ++trial) {
     CAPTURE(trial);
-    std::vector<double> weights(mesh.num_edges());
-    for (double& w : weights) w = uniform(rng);
+    const std::vector<double> weights = random_weights(mesh, 0.1, 1.0, rng);
     const std::vector<EdgeId> edges = random_edges(mesh, 40 + 10 * (trial % 10), rng);
     std::vector<VertexId> keep;
     std::set<std::uint32_t> keep_set;
@@ -275,11 +281,9 @@ TEST_CASE("forest: merged vertices act as one node that every tree reaches once"
   std::vector<EdgeId> edges;
   for (std::size_t e = 0; e < mesh.num_edges(); ++e) edges.push_back(EdgeId(e));
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> uniform(0.1, 1.0);
   for (int trial = 0; trial < 10; ++trial) {
     CAPTURE(trial);
-    std::vector<double> weights(mesh.num_edges());
-    for (double& w : weights) w = uniform(rng);
+    const std::vector<double> weights = random_weights(mesh, 0.1, 1.0, rng);
     std::vector<VertexId> keep;
     std::set<std::uint32_t> keep_set;
     while (keep.size() < 3) {
