@@ -9,7 +9,7 @@ RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
       g++ cmake ninja-build pkg-config nodejs npm \
       libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev libembree-dev libspdlog-dev libeigen3-dev \
-      libsuitesparse-dev \
+      libsuitesparse-dev libmetis-dev \
  && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY CMakeLists.txt ./
@@ -37,7 +37,7 @@ FROM debian:bookworm-slim AS runtime
 # curl for the HEALTHCHECK.
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      libcpp-httplib0.11 libspdlog1.10 libcholmod3 libopenblas0-pthread libembree3-3 curl ca-certificates \
+      libcpp-httplib0.11 libspdlog1.10 libcholmod3 libmetis5 libopenblas0-pthread libembree3-3 curl ca-certificates \
  && rm -rf /var/lib/apt/lists/* \
  && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin seamd
 COPY --from=build /src/build/server/seamd /usr/local/bin/seamd

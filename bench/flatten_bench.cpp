@@ -2,6 +2,9 @@
 // paired in one run, and where SLIM's time goes. Target: default <= 1.5x BFF's own time
 // (`uv: bff`), both through parameterize() as the service calls it.
 //
+// Also: the nested dissection order of the largest chart's vertex graph, METIS_NodeND as
+// nested_dissection_order calls it against CHOLMOD's cholmod_metis (METIS's defaults), paired.
+//
 //   flatten_bench [pairs [min_faces [mesh ...]]]   default: 3 pairs, 900000 faces; lion-head (a
 //       disc) and camel (closed, cut by the skeleton seam through its automatic extrema)
 // Each mesh is midpoint-subdivided to >= min_faces faces and numbered along a Z-order curve, as
@@ -21,6 +24,7 @@
 #include "core/uv/bff.h"
 #include "core/uv/parameterize.h"
 #include "core/uv/slim.h"
+#include "core/uv/sparse_cholesky.h"
 
 using namespace seam;
 
@@ -66,6 +70,59 @@ void breakdown(const std::string& name, const core::HalfedgeMesh& disc) {
   std::fflush(stdout);
 }
 
+// The chart's vertex graph as a lower triangle (diagonal included), as SLIM's proxy has it.
+Eigen::SparseMatrix<double> vertex_graph(const core::DiscPatch& patch) {
+  const auto n = static_cast<Eigen::Index>(patch.num_vertices());
+  std::vector<Eigen::Triplet<double>> entries;
+  for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, 1.0);
+  for (const core::Triangle& tri : patch.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<Eigen::Index>(tri[k]);
+      const auto b = static_cast<Eigen::Index>(tri[(k + 1) % 3]);
+      entries.emplace_back(std::max(a, b), std::min(a, b), 1.0);
+    }
+  }
+  Eigen::SparseMatrix<double> lower(n, n);
+  lower.setFromTriplets(entries.begin(), entries.end());
+  return lower;
+}
+
+// Entries in L and factorization flops of an analysis in `order`.
+std::pair<double, double> fill_of(const Eigen::SparseMatrix<double>& lower, std::vector<int> order) {
+  core::SparseCholesky solver;
+  solver.use_order(std::move(order));
+  solver.analyzePattern(lower);
+  return {solver.cholmod().lnz, solver.cholmod().fl};
+}
+
+// nested_dissection_order against CHOLMOD's METIS call with METIS's defaults, `pairs` times.
+void orders(const std::string& name, const core::HalfedgeMesh& disc, int pairs) {
+  auto patches = core::extract_disc_patches(disc, core::compute_topology(disc)).value();
+  const auto largest = std::max_element(patches.begin(), patches.end(), [](const auto& a, const auto& b) {
+    return a.triangles.size() < b.triangles.size();
+  });
+  const Eigen::SparseMatrix<double> lower = vertex_graph(*largest);
+  std::vector<double> ours_ms, cholmod_ms;
+  std::vector<int> ours, theirs;
+  for (int i = 0; i < pairs; ++i) {
+    ours_ms.push_back(bench::best_ms(1, [&] { ours = core::nested_dissection_order(lower); }));
+    cholmod_ms.push_back(bench::best_ms(1, [&] {
+      cholmod_common common;
+      cholmod_start(&common);
+      cholmod_sparse view = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
+      theirs.assign(static_cast<std::size_t>(lower.rows()), 0);
+      cholmod_metis(&view, nullptr, 0, 1, theirs.data(), &common);
+      cholmod_finish(&common);
+    }));
+  }
+  const auto [ours_lnz, ours_fl] = fill_of(lower, ours);
+  const auto [their_lnz, their_fl] = fill_of(lower, theirs);
+  std::printf("%-10s %9zu %9.0f %9.0f %6.2f %8.2f %8.2f %7.2f %7.2f\n", name.c_str(), largest->num_vertices(),
+              median(ours_ms), median(cholmod_ms), median(ours_ms) / median(cholmod_ms), ours_lnz / 1e6,
+              their_lnz / 1e6, ours_fl / 1e9, their_fl / 1e9);
+  std::fflush(stdout);
+}
+
 // Paired parameterize() runs, BFF then the default, `pairs` times; medians and their ratio.
 void paired(const std::string& name, const core::HalfedgeMesh& disc, int pairs) {
   std::vector<double> bff;
@@ -104,6 +161,14 @@ int main(int argc, char** argv) {
   std::printf("%-10s %9s %8s %8s %5s %5s %6s %6s %4s %7s %7s %8s %7s %7s %7s\n", "mesh", "faces", "bff", "slim",
               "iters", "facts", "E0", "E1", "coll", "start", "analyze", "assemble", "factor", "search", "collide");
   for (std::size_t i = 0; i < names.size(); ++i) breakdown(names[i], discs[i]);
+
+  std::printf(
+      "\n== nested dissection of the largest chart's vertex graph, median of %d pairs: ours =\n"
+      "   METIS_NodeND with one refinement pass per level, cholmod = cholmod_metis (defaults)\n",
+      pairs);
+  std::printf("%-10s %9s %9s %9s %6s %8s %8s %7s %7s\n", "mesh", "vertices", "ours ms", "cholmod", "ratio", "L ours",
+              "L chol", "GF ours", "GF chol");
+  for (std::size_t i = 0; i < names.size(); ++i) orders(names[i], discs[i], pairs);
 
   std::printf("\n== parameterize(): default vs uv=bff, median of %d pairs (target ratio <= %.1f)\n", pairs,
               kTargetRatio);

@@ -11,7 +11,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 
 packages=(build-essential cmake ninja-build pkg-config ccache
           libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libdraco-dev draco libembree-dev
-          libspdlog-dev doctest-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread
+          libspdlog-dev doctest-dev libeigen3-dev libsuitesparse-dev libmetis-dev libopenblas0-pthread
           curl ca-certificates)
 # Node.js may come from elsewhere than Debian (Debian's npm then conflicts with it): only
 # install Debian's when the commands are missing. The build bundles the viewer with it.

@@ -1,6 +1,7 @@
 #include "core/uv/sparse_cholesky.h"
 
 #include <dlfcn.h>
+#include <metis.h>
 
 #include <algorithm>
 #include <mutex>
@@ -9,6 +10,11 @@
 
 namespace seam::core {
 namespace {
+
+// METIS's refinement passes per uncoarsening level (METIS_OPTION_NITER, default 10): one pass
+// orders a 533k-vertex mesh graph about 11% faster for 1% more factorization flops
+// (nested_dissection_order).
+constexpr idx_t kMetisRefinementPasses = 1;
 
 // Set by use_single_threaded_solvers() in each thread that runs solvers: OpenMP regions that
 // thread starts are inactive (max-active-levels 0), so GOMP_parallel below runs them inline.
@@ -182,7 +188,7 @@ std::vector<std::pair<int, double>> SparseCholesky::half_solve_simplicial(std::s
   return y;
 }
 
-void SparseCholesky::analyze_with_order(const Eigen::SparseMatrix<double>& matrix) {
+void SparseCholesky::analyze_with_order(const Eigen::SparseMatrix<double>& matrix, std::span<const int> order) {
   if (m_cholmodFactor != nullptr) {
     cholmod_free_factor(&m_cholmodFactor, &cholmod());
     m_cholmodFactor = nullptr;
@@ -191,26 +197,50 @@ void SparseCholesky::analyze_with_order(const Eigen::SparseMatrix<double>& matri
   cholmod().method[0].ordering = CHOLMOD_GIVEN;
   cholmod().postorder = 1;
   cholmod_sparse a = Eigen::viewAsCholmod(matrix.selfadjointView<Eigen::Lower>());
-  m_cholmodFactor = cholmod_analyze_p(&a, order_.data(), nullptr, 0, &cholmod());
+  // CHOLMOD reads the permutation only.
+  m_cholmodFactor = cholmod_analyze_p(&a, const_cast<int*>(order.data()), nullptr, 0, &cholmod());
   m_isInitialized = true;
   m_info = m_cholmodFactor != nullptr ? Eigen::Success : Eigen::NumericalIssue;
   m_analysisIsOk = m_cholmodFactor != nullptr;
   m_factorizationIsOk = false;
 }
 
-std::vector<int> nested_dissection_order(Eigen::SparseMatrix<double> lower) {
+std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& lower) {
   if (lower.rows() == 0 || lower.rows() != lower.cols()) return {};
-  cholmod_common common;
-  cholmod_start(&common);
-  common.print = 0;
-  lower.makeCompressed();  // CHOLMOD reads packed columns; a no-op for a setFromTriplets result
-  const Eigen::SparseMatrix<double>& view = lower;
-  cholmod_sparse a = Eigen::viewAsCholmod(view.selfadjointView<Eigen::Lower>());
-  std::vector<int> order(static_cast<std::size_t>(lower.rows()));
-  const int ok = cholmod_metis(&a, nullptr, 0, 1, order.data(), &common);
-  cholmod_finish(&common);
-  if (!ok) return {};
-  return order;
+  static_assert(sizeof(idx_t) >= sizeof(int), "METIS's indices must hold the matrix's");
+  // METIS reads the graph as adjacency lists (CSR) without self-loops: each off-diagonal
+  // entry (i, j) of the lower triangle is the edges i-j and j-i.
+  const auto n = static_cast<std::size_t>(lower.rows());
+  std::vector<idx_t> start(n + 1, 0);
+  for (Eigen::Index j = 0; j < lower.outerSize(); ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(lower, j); it; ++it) {
+      if (it.row() <= j) continue;  // the diagonal, or the upper triangle of a full matrix
+      ++start[static_cast<std::size_t>(it.row()) + 1];
+      ++start[static_cast<std::size_t>(j) + 1];
+    }
+  }
+  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<idx_t> adjacent(static_cast<std::size_t>(start[n]));
+  std::vector<idx_t> fill(start.begin(), start.end() - 1);
+  for (Eigen::Index j = 0; j < lower.outerSize(); ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(lower, j); it; ++it) {
+      if (it.row() <= j) continue;  // the diagonal, or the upper triangle of a full matrix
+      const auto i = static_cast<std::size_t>(it.row());
+      adjacent[static_cast<std::size_t>(fill[i]++)] = static_cast<idx_t>(j);
+      adjacent[static_cast<std::size_t>(fill[static_cast<std::size_t>(j)]++)] = static_cast<idx_t>(i);
+    }
+  }
+  fill = {};
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_NITER] = kMetisRefinementPasses;
+  auto vertices = static_cast<idx_t>(n);
+  std::vector<idx_t> perm(n), inverse(n);
+  if (METIS_NodeND(&vertices, start.data(), adjacent.data(), nullptr, options, perm.data(), inverse.data()) !=
+      METIS_OK) {
+    return {};
+  }
+  return std::vector<int>(perm.begin(), perm.end());
 }
 
 std::vector<int> restrict_order(std::span<const int> order, std::span<const Eigen::Index> unknown_of) {

@@ -23,16 +23,20 @@ namespace seam::core {
 /// unknowns 3.0-4.1 -> 1.5-1.6 s). Idempotent and thread-safe.
 void use_single_threaded_solvers();
 
-/// METIS nested dissection (CHOLMOD's cholmod_metis, postordered) of the symmetric pattern
-/// whose lower triangle, diagonal included, is `lower`: order[k] is the unknown eliminated
-/// k-th. What SparseCholesky::prefer_nested_dissection() computes inside its analysis, for a
-/// caller with several systems on one graph: METIS is most of a large analysis (2.6 of 2.8 s
-/// on a 533k-unknown grid), and an order restricted to a subset of the unknowns
-/// (restrict_order) is still a nested dissection of the subgraph they induce, since removing
-/// vertices keeps every separator a separator. Empty if CHOLMOD fails (out of memory).
-/// Takes the matrix by value: a caller done with it moves it in, no copy.
+/// METIS nested dissection (METIS_NodeND, Karypis & Kumar 1998) of the symmetric pattern whose
+/// lower triangle is `lower` (the diagonal and any entry above it are ignored): order[k] is the
+/// unknown eliminated k-th. What SparseCholesky::prefer_nested_dissection() analyses with, for
+/// a caller with several systems on one graph: METIS is most of a large analysis, and an order
+/// restricted to a subset of the unknowns (restrict_order) is still a nested dissection of the
+/// subgraph they induce, since removing vertices keeps every separator a separator. METIS
+/// refines each level's separator with one pass instead of its default ten: on the 533k-vertex
+/// graph of a 1M-face disc 2.39 s against 2.84 s through CHOLMOD's cholmod_metis (METIS's
+/// defaults), for 0.7% more entries in L and 0.9% more flops per factorization
+/// (bench/flatten_bench, median of 3 pairs).
+/// CHOLMOD postorders the order in its analysis. Empty if METIS fails (out of memory) or
+/// `lower` is not square. Deterministic (METIS's fixed seed).
 /// Complexity: METIS's, about O(nnz log n).
-std::vector<int> nested_dissection_order(Eigen::SparseMatrix<double> lower);
+std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& lower);
 
 /// `order` (over n items) restricted to the items that are unknowns of a smaller system:
 /// unknown_of[item] is the item's unknown, or negative for none. The unknowns keep their
@@ -62,9 +66,11 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   }
 
   /// For systems of at least `min_unknowns` unknowns, orders by METIS nested dissection
-  /// instead of the AMD that CHOLMOD picks by default for mesh Laplacians (it tries METIS only
-  /// at fill ratios meshes do not reach). On a 490k-vertex triangulated grid: 20% less fill
-  /// (24.0M vs 30.2M entries in L) and 39% fewer flops per factorization (6.6 vs 10.7 GFlop);
+  /// (nested_dissection_order; CHOLMOD's analysis then reports CHOLMOD_GIVEN) instead of the
+  /// AMD that CHOLMOD picks by default for mesh Laplacians (it tries METIS only at fill ratios
+  /// meshes do not reach); AMD still if METIS fails. On a 490k-vertex triangulated grid: 20%
+  /// less fill (24.0M vs 30.2M entries in L) and 39% fewer flops per factorization (6.6 vs 10.7
+  /// GFlop);
   /// on SLIM's proxy at 534k unknowns analysis + 5 factorizations take 13.3 s against AMD's
   /// 14.7 s. Below 200k AMD wins: its analysis is 3-4x cheaper and, at 40k unknowns, its
   /// simplicial factorization no slower. Call before analyzePattern / compute.
@@ -83,13 +89,14 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
     position_.clear();  // a new analysis: a new permutation and new supernodes
     supernode_of_.clear();
     if (static_cast<Eigen::Index>(order_.size()) == matrix.rows() && matrix.rows() > 0) {
-      analyze_with_order(matrix);
+      analyze_with_order(matrix, order_);
       return;
     }
     if (nested_dissection_min_ >= 0 && matrix.rows() >= nested_dissection_min_) {
-      cholmod().nmethods = 1;
-      cholmod().method[0].ordering = CHOLMOD_METIS;
-      cholmod().postorder = 1;
+      if (const std::vector<int> nested = nested_dissection_order(matrix); !nested.empty()) {
+        analyze_with_order(matrix, nested);
+        return;
+      }
     }
     Base::analyzePattern(matrix);
   }
@@ -134,7 +141,7 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   }
 
   // Base::analyzePattern with cholmod_analyze_p and the given order (Eigen has no such call).
-  void analyze_with_order(const Eigen::SparseMatrix<double>& matrix);
+  void analyze_with_order(const Eigen::SparseMatrix<double>& matrix, std::span<const int> order);
   // half_solve_sparse's two kinds; position_ filled.
   std::vector<std::pair<int, double>> half_solve_simplicial(std::span<const std::pair<int, double>> b);
   std::vector<std::pair<int, double>> half_solve_supernodal(std::span<const std::pair<int, double>> b);

@@ -88,9 +88,10 @@ TEST_CASE("nested dissection orders a grid Laplacian with less fill and solves i
   REQUIRE(by_default.info() == Eigen::Success);
   REQUIRE(nested.info() == Eigen::Success);
   REQUIRE(below_size.info() == Eigen::Success);
-  CHECK(nested.cholmod().method[nested.cholmod().selected].ordering == CHOLMOD_METIS);
-  CHECK(by_default.cholmod().method[by_default.cholmod().selected].ordering != CHOLMOD_METIS);
-  CHECK(below_size.cholmod().method[below_size.cholmod().selected].ordering != CHOLMOD_METIS);
+  // Nested dissection is computed by nested_dissection_order and given to CHOLMOD's analysis.
+  CHECK(nested.cholmod().method[nested.cholmod().selected].ordering == CHOLMOD_GIVEN);
+  CHECK(by_default.cholmod().method[by_default.cholmod().selected].ordering != CHOLMOD_GIVEN);
+  CHECK(below_size.cholmod().method[below_size.cholmod().selected].ordering != CHOLMOD_GIVEN);
   CHECK(nested.cholmod().lnz < by_default.cholmod().lnz);
   const Eigen::VectorXd x = nested.solve(a * x_true);
   CHECK((x - x_true).norm() / x_true.norm() < 1e-10);
@@ -196,6 +197,57 @@ TEST_CASE("in a solver thread an OpenMP region runs inline once; other threads k
   other.join();
   CHECK(team_log.threads.size() == 2);
   CHECK(std::count(team_log.team_sizes.begin(), team_log.team_sizes.end(), 2) == 2);
+}
+
+namespace {
+
+// Entries in L of an analysis of `a` in the order `perm` (postordered, as every analysis here).
+double fill_in_order(const Eigen::SparseMatrix<double>& a, std::vector<int> perm) {
+  SparseCholesky solver;
+  solver.use_order(std::move(perm));
+  solver.analyzePattern(a);
+  REQUIRE(solver.info() == Eigen::Success);
+  return solver.cholmod().lnz;
+}
+
+}  // namespace
+
+TEST_CASE("nested dissection reads the graph off the lower triangle and fills like CHOLMOD's METIS call") {
+  const int m = 90;
+  const Eigen::SparseMatrix<double> full = grid_laplacian(m, 2, 0.01);
+  const Eigen::SparseMatrix<double> lower = full.triangularView<Eigen::Lower>();
+  const Eigen::SparseMatrix<double> strictly_lower = full.triangularView<Eigen::StrictlyLower>();
+  const std::vector<int> order = seam::core::nested_dissection_order(lower);
+  REQUIRE(order.size() == static_cast<std::size_t>(m * m));
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<int> identity(sorted.size());
+  std::iota(identity.begin(), identity.end(), 0);
+  CHECK(sorted == identity);
+  // One graph, however it is stored: the same order (METIS is deterministic).
+  CHECK(seam::core::nested_dissection_order(strictly_lower) == order);
+  CHECK(seam::core::nested_dissection_order(full) == order);
+
+  // The oracle: CHOLMOD's own METIS call (its defaults: ten refinement passes per level).
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  cholmod_sparse view = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
+  std::vector<int> reference(static_cast<std::size_t>(m * m));
+  REQUIRE(cholmod_metis(&view, nullptr, 0, 1, reference.data(), &common) != 0);
+  cholmod_finish(&common);
+  const double ours = fill_in_order(full, order);
+  const double theirs = fill_in_order(full, reference);
+  const double banded = fill_in_order(full, identity);  // row by row: a band of width m
+  CAPTURE(ours);
+  CAPTURE(theirs);
+  // One refinement pass per level instead of ten: 5.3% more fill on this 90 x 90 grid, 0.7%
+  // on a 1M-face disc's graph; separators found by other options differ by as much.
+  CHECK(ours <= 1.10 * theirs);
+  CHECK(ours < 0.35 * banded);
+
+  CHECK(seam::core::nested_dissection_order(Eigen::SparseMatrix<double>(0, 0)).empty());
+  CHECK(seam::core::nested_dissection_order(Eigen::SparseMatrix<double>(3, 4)).empty());
 }
 
 TEST_CASE("one nested dissection, restricted to subsets of the unknowns, orders each system") {
