@@ -236,6 +236,11 @@ std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& lowe
   options[METIS_OPTION_NITER] = kMetisRefinementPasses;
   auto vertices = static_cast<idx_t>(n);
   std::vector<idx_t> perm(n), inverse(n);
+  // METIS draws its random choices from one generator per process (GKlib's, not per thread):
+  // two calls at once race on it and order differently than either alone (measured: both
+  // orders of a 246k-vertex graph changed). One call at a time keeps every order the same.
+  static std::mutex metis;
+  const std::lock_guard<std::mutex> one_at_a_time(metis);
   if (METIS_NodeND(&vertices, start.data(), adjacent.data(), nullptr, options, perm.data(), inverse.data()) !=
       METIS_OK) {
     return {};

@@ -34,7 +34,8 @@ void use_single_threaded_solvers();
 /// defaults), for 0.7% more entries in L and 0.9% more flops per factorization
 /// (bench/flatten_bench, median of 3 pairs).
 /// CHOLMOD postorders the order in its analysis. Empty if METIS fails (out of memory) or
-/// `lower` is not square. Deterministic (METIS's fixed seed).
+/// `lower` is not square. Deterministic (METIS's fixed seed) and thread-safe: METIS keeps its
+/// random generator in process-wide state, so calls from concurrent requests take turns.
 /// Complexity: METIS's, about O(nnz log n).
 std::vector<int> nested_dissection_order(const Eigen::SparseMatrix<double>& lower);
 
@@ -136,6 +137,10 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
     cholmod().print = 0;
     cholmod().supernodal = CHOLMOD_AUTO;
     cholmod().supernodal_switch = kSupernodalSwitch;
+    // AMD alone: by default CHOLMOD also tries METIS when AMD's factor is dense enough, and
+    // METIS must not run beside another call (nested_dissection_order serializes its own).
+    cholmod().nmethods = 1;
+    cholmod().method[0].ordering = CHOLMOD_AMD;
     cholmod().final_asis = 0;
     cholmod().final_ll = 1;
   }

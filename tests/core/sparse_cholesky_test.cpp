@@ -2,7 +2,8 @@
 // solves SPD systems to round-off with either kind, reports non-SPD input through info() with
 // either kind, reuses a symbolic analysis, orders by nested dissection on request (less fill on
 // a grid) from a size on or in an order given (one nested dissection restricted to subsystems),
-// keeps BLAS and CHOLMOD's OpenMP loops single-threaded and runs those loops inline.
+// keeps BLAS and CHOLMOD's OpenMP loops single-threaded and runs those loops inline, and
+// orders the same from concurrent threads.
 #include "core/uv/sparse_cholesky.h"
 
 #include <dlfcn.h>
@@ -248,6 +249,27 @@ TEST_CASE("nested dissection reads the graph off the lower triangle and fills li
 
   CHECK(seam::core::nested_dissection_order(Eigen::SparseMatrix<double>(0, 0)).empty());
   CHECK(seam::core::nested_dissection_order(Eigen::SparseMatrix<double>(3, 4)).empty());
+}
+
+TEST_CASE("nested dissections from concurrent threads come out as they do one at a time") {
+  // METIS's random generator is process-wide: unserialized, two threads ordering at once
+  // changed both orders (a data race).
+  const Eigen::SparseMatrix<double> first = grid_laplacian(70, 2, 0.01).triangularView<Eigen::Lower>();
+  const Eigen::SparseMatrix<double> third = grid_laplacian(20, 3, 0.01).triangularView<Eigen::Lower>();
+  const std::vector<int> alone_first = seam::core::nested_dissection_order(first);
+  const std::vector<int> alone_third = seam::core::nested_dissection_order(third);
+  REQUIRE(!alone_first.empty());
+  REQUIRE(!alone_third.empty());
+  constexpr int kRounds = 12;
+  int same_first = 0;
+  int same_third = 0;
+  std::thread other([&] {
+    for (int i = 0; i < kRounds; ++i) same_first += seam::core::nested_dissection_order(first) == alone_first;
+  });
+  for (int i = 0; i < kRounds; ++i) same_third += seam::core::nested_dissection_order(third) == alone_third;
+  other.join();
+  CHECK(same_first == kRounds);
+  CHECK(same_third == kRounds);
 }
 
 TEST_CASE("one nested dissection, restricted to subsets of the unknowns, orders each system") {
