@@ -130,9 +130,51 @@ Vec2 pack_charts(std::vector<Chart>& charts, double gap_fraction) {
   return extent;
 }
 
-}  // namespace
+// Flattens one chart by options.method. Records in `result` an ARAP chart that fell back to
+// its BFF start (method_used) and a SLIM start whose boundary crossed itself.
+Result<std::vector<Vec2>> flatten_chart(const DiscPatch& patch, const UvOptions& options, UvResult& result,
+                                        const CancelToken& cancel) {
+  std::vector<Vec2> uv;
+  switch (options.method) {
+    case UvMethod::kLscm: {
+      SEAM_TRY(uv, flatten_lscm(patch, cancel));
+      return uv;
+    }
+    case UvMethod::kBff: {
+      SEAM_TRY(uv, flatten_bff(patch, cancel));
+      repair_flips(patch, uv);
+      return uv;
+    }
+    case UvMethod::kArap: {
+      SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel));
+      repair_flips(patch, start_uv);
+      SEAM_TRY(uv, flatten_arap(patch, start_uv, options.arap_iterations, cancel));
+      repair_flips(patch, uv);
+      // ARAP's local/global steps have no flip guarantee; never trade a clean start for flips.
+      if (count_flipped(patch, uv) > count_flipped(patch, start_uv)) {
+        result.method_used = UvMethod::kBff;
+        return start_uv;
+      }
+      return uv;
+    }
+    case UvMethod::kSlim: {
+      const std::vector<int> order = shared_vertex_order(patch);
+      SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel, order));
+      repair_flips(patch, start_uv);
+      SEAM_TRY(SlimResult slim, flatten_slim(patch, std::move(start_uv),
+                                             {.iterations = options.slim_iterations,
+                                              .proxy = options.slim_proxy,
+                                              .injective = options.injective,
+                                              .vertex_order = order},
+                                             cancel));
+      if (slim.overlapping_start) ++result.overlapping_starts;
+      return std::move(slim.uv);
+    }
+  }
+  return make_error(ErrorCode::kInvalidArgument, "parameterize: unknown UV method");
+}
 
-Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& options, const CancelToken& cancel) {
+Status validate(const HalfedgeMesh& disc_mesh, const UvOptions& options) {
   if (options.arap_iterations < 0 || options.arap_iterations > 1000) {
     return make_error(ErrorCode::kInvalidArgument,
                       "arap_iterations must be in 0..1000, got " + std::to_string(options.arap_iterations));
@@ -145,66 +187,16 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
     return make_error(ErrorCode::kInvalidArgument, "chart_gap must be in 0..1");
   }
   if (disc_mesh.num_faces() == 0) return make_error(ErrorCode::kEmptyMesh, "parameterize: the mesh has no faces");
+  return Ok{};
+}
 
-  const Topology topology = compute_topology(disc_mesh);
-  SEAM_TRY(std::vector<DiscPatch> patches, extract_disc_patches(disc_mesh, topology));
-
-  UvResult result;
-  result.method_used = options.method;
-  result.charts = patches.size();
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<Chart> charts;
-  charts.reserve(patches.size());
-  for (const DiscPatch& patch : patches) {
-    if (cancel.is_cancelled()) return cancelled_error("parameterize");
-    std::vector<Vec2> uv;
-    switch (options.method) {
-      case UvMethod::kLscm: {
-        SEAM_TRY(uv, flatten_lscm(patch, cancel));
-        break;
-      }
-      case UvMethod::kBff: {
-        SEAM_TRY(uv, flatten_bff(patch, cancel));
-        repair_flips(patch, uv);
-        break;
-      }
-      case UvMethod::kArap: {
-        SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel));
-        repair_flips(patch, start_uv);
-        SEAM_TRY(uv, flatten_arap(patch, start_uv, options.arap_iterations, cancel));
-        repair_flips(patch, uv);
-        // ARAP's local/global steps have no flip guarantee; never trade a clean start for flips.
-        if (count_flipped(patch, uv) > count_flipped(patch, start_uv)) {
-          uv = std::move(start_uv);
-          result.method_used = UvMethod::kBff;
-        }
-        break;
-      }
-      case UvMethod::kSlim: {
-        const std::vector<int> order = shared_vertex_order(patch);
-        SEAM_TRY(std::vector<Vec2> start_uv, flatten_bff(patch, cancel, order));
-        repair_flips(patch, start_uv);
-        SEAM_TRY(SlimResult slim, flatten_slim(patch, std::move(start_uv),
-                                               {.iterations = options.slim_iterations,
-                                                .proxy = options.slim_proxy,
-                                                .injective = options.injective,
-                                                .vertex_order = order},
-                                               cancel));
-        if (slim.overlapping_start) ++result.overlapping_starts;
-        uv = std::move(slim.uv);
-        break;
-      }
-    }
-    if (count_flipped(patch, uv) > 0 || !boundary_is_simple(patch, uv)) ++result.charts_not_injective;
-    charts.push_back(normalise_chart(patch, std::move(uv)));
-  }
-  result.solve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-
-  const Vec2 extent = pack_charts(charts, options.chart_gap);
+// Packs the charts, fits the atlas into [0,1]^2, rounds to float32 (what ships is what is
+// measured) and measures distortion and overlap.
+Status finish_atlas(const HalfedgeMesh& disc_mesh, const std::vector<DiscPatch>& patches, std::vector<Chart> charts,
+                    double chart_gap, UvResult& result, const CancelToken& cancel) {
+  const Vec2 extent = pack_charts(charts, chart_gap);
   const double fit = std::max(extent.x(), extent.y());
   const double inv = fit > 0 ? 1.0 / fit : 1.0;
-
-  // The stored UVs are float32: round here so that what we measure is what ships.
   result.uv.assign(disc_mesh.num_vertices(), Vec2::Zero());
   for (std::size_t c = 0; c < patches.size(); ++c) {
     const DiscPatch& patch = patches[c];
@@ -220,6 +212,33 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& op
   result.overlap_area = overlap.overlap_area;
   result.overlap_fraction = overlap.overlap_fraction;
   result.overlap_ms = overlap.ms;
+  return Ok{};
+}
+
+}  // namespace
+
+Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& options, const CancelToken& cancel) {
+  if (Status valid = validate(disc_mesh, options); !valid.ok()) return valid.take_error();
+  const Topology topology = compute_topology(disc_mesh);
+  SEAM_TRY(std::vector<DiscPatch> patches, extract_disc_patches(disc_mesh, topology));
+
+  UvResult result;
+  result.method_used = options.method;
+  result.charts = patches.size();
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<Chart> charts;
+  charts.reserve(patches.size());
+  for (const DiscPatch& patch : patches) {
+    if (cancel.is_cancelled()) return cancelled_error("parameterize");
+    SEAM_TRY(std::vector<Vec2> uv, flatten_chart(patch, options, result, cancel));
+    if (count_flipped(patch, uv) > 0 || !boundary_is_simple(patch, uv)) ++result.charts_not_injective;
+    charts.push_back(normalise_chart(patch, std::move(uv)));
+  }
+  result.solve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (Status done = finish_atlas(disc_mesh, patches, std::move(charts), options.chart_gap, result, cancel);
+      !done.ok()) {
+    return done.take_error();
+  }
   return result;
 }
 
