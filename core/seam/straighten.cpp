@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -184,16 +185,21 @@ Result<std::vector<EdgeId>> join_to_first_terminal(const HalfedgeMesh& mesh, con
   const std::size_t k = terminals.size();
   UnionFind& uf = forest.pieces;
   std::vector<EdgeId>& kept = forest.edges;
-  PathSearch search(graph);
-  for (VertexId t : terminals) search.block(t);
+  // Made on the first piece to join: a tree that is already whole (every call from the
+  // refinement) needs no search state, which is several arrays of the mesh's size.
+  std::optional<PathSearch> search;
+  std::vector<std::uint8_t> seen(nv, 0);
+  std::vector<VertexId> seen_list;
   for (int guard = 0; guard < static_cast<int>(k); ++guard) {
     const std::uint32_t main_root = uf.find(terminals[0].value());
     std::vector<VertexId> sources;
     std::vector<VertexId> targets;
-    std::vector<std::uint8_t> seen(nv, 0);
+    for (VertexId v : seen_list) seen[v.index()] = 0;
+    seen_list.clear();
     auto consider = [&](VertexId v) {
       if (seen[v.index()]) return;
       seen[v.index()] = 1;
+      seen_list.push_back(v);
       if (uf.find(v.value()) == main_root) {
         // A terminal must stay a leaf, so a joining path may start at one only if it is
         // alone in its piece (then it is the piece).
@@ -209,17 +215,21 @@ Result<std::vector<EdgeId>> join_to_first_terminal(const HalfedgeMesh& mesh, con
     for (VertexId t : terminals) consider(t);
     if (targets.empty()) break;
     if (sources.empty()) sources.push_back(terminals[0]);
-    search.reset();
-    for (VertexId v : sources) search.add_source(v);
-    if (auto st = search.run_to_nearest(targets, cancel); !st.ok()) return st.take_error();
+    if (!search) {
+      search.emplace(graph);
+      for (VertexId t : terminals) search->block(t);
+    }
+    search->reset();
+    for (VertexId v : sources) search->add_source(v);
+    if (auto st = search->run_to_nearest(targets, cancel); !st.ok()) return st.take_error();
     VertexId hit;
     for (VertexId v : targets) {
-      if (search.reached(v) && (!hit.valid() || search.distance(v) < search.distance(hit))) hit = v;
+      if (search->reached(v) && (!hit.valid() || search->distance(v) < search->distance(hit))) hit = v;
     }
     if (!hit.valid()) {
       return make_error(ErrorCode::kTopologyViolation, "the skeleton cannot be joined to every terminal");
     }
-    for (HalfedgeId h : search.path_to(mesh, hit)) {
+    for (HalfedgeId h : search->path_to(mesh, hit)) {
       if (uf.unite(mesh.tail(h).value(), mesh.head(h).value())) kept.push_back(HalfedgeMesh::edge(h));
     }
   }
@@ -234,15 +244,28 @@ struct WalkedTopology {
 };
 
 // Nodes: terminals first, then vertices of degree >= 3; branches are walked between them.
+// The tree's adjacency is indexed by its own vertices (sorted), not by the mesh's.
 WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> tree,
                              std::span<const VertexId> terminals) {
   const std::size_t nv = mesh.num_vertices();
   const std::size_t k = terminals.size();
-  std::vector<std::vector<HalfedgeId>> out(nv);
+  std::vector<VertexId> touched;
+  touched.reserve(2 * tree.size());
+  for (EdgeId e : tree) {
+    touched.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+    touched.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  auto local = [&](VertexId v) {
+    return static_cast<std::size_t>(std::lower_bound(touched.begin(), touched.end(), v) - touched.begin());
+  };
+  auto on_tree = [&](VertexId v) { return std::binary_search(touched.begin(), touched.end(), v); };
+  std::vector<std::vector<HalfedgeId>> out(touched.size());
   for (EdgeId e : tree) {
     const HalfedgeId h = HalfedgeMesh::halfedge(e);
-    out[mesh.tail(h).index()].push_back(h);
-    out[mesh.head(h).index()].push_back(HalfedgeMesh::twin(h));
+    out[local(mesh.tail(h))].push_back(h);
+    out[local(mesh.head(h))].push_back(HalfedgeMesh::twin(h));
   }
   WalkedTopology walked;
   TreeTopology& topo = walked.topology;
@@ -253,33 +276,41 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
     topo.nodes.push_back(terminals[i]);
     node_of[terminals[i].index()] = static_cast<std::int32_t>(i);
   }
-  std::vector<VertexId> touched;
-  for (EdgeId e : tree) {
-    touched.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
-    touched.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
-  }
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  for (VertexId v : touched) {
-    if (node_of[v.index()] < 0 && out[v.index()].size() >= 3) {
+  for (std::size_t i = 0; i < touched.size(); ++i) {
+    const VertexId v = touched[i];
+    if (node_of[v.index()] < 0 && out[i].size() >= 3) {
       node_of[v.index()] = static_cast<std::int32_t>(topo.nodes.size());
       topo.nodes.push_back(v);
     }
   }
-  std::vector<std::uint8_t> used(mesh.num_edges(), 0);
+  // Walked edges: per tree vertex, a mark for each of its out half-edges.
+  std::vector<std::vector<std::uint8_t>> used(touched.size());
+  for (std::size_t i = 0; i < touched.size(); ++i) used[i].assign(out[i].size(), 0);
+  auto mark_used = [&](HalfedgeId h) {
+    for (HalfedgeId g : {h, HalfedgeMesh::twin(h)}) {
+      const std::size_t i = local(mesh.tail(g));
+      const auto at = std::find(out[i].begin(), out[i].end(), g) - out[i].begin();
+      used[i][static_cast<std::size_t>(at)] = 1;
+    }
+  };
+  auto is_used = [&](HalfedgeId h) {
+    const std::size_t i = local(mesh.tail(h));
+    return used[i][static_cast<std::size_t>(std::find(out[i].begin(), out[i].end(), h) - out[i].begin())] != 0;
+  };
   for (std::uint32_t a = 0; a < topo.nodes.size(); ++a) {
-    auto outgoing = out[topo.nodes[a].index()];
+    if (!on_tree(topo.nodes[a])) continue;  // a terminal the tree misses: no branch
+    auto outgoing = out[local(topo.nodes[a])];
     std::sort(outgoing.begin(), outgoing.end());
     for (HalfedgeId start : outgoing) {
-      if (used[HalfedgeMesh::edge(start).index()]) continue;
+      if (is_used(start)) continue;
       std::vector<HalfedgeId> path;
       HalfedgeId h = start;
       while (true) {
-        used[HalfedgeMesh::edge(h).index()] = 1;
+        mark_used(h);
         path.push_back(h);
         const VertexId w = mesh.head(h);
         if (node_of[w.index()] >= 0) break;
-        const auto& hs = out[w.index()];
+        const auto& hs = out[local(w)];
         SEAM_ASSERT(hs.size() == 2);
         h = hs[0] == HalfedgeMesh::twin(h) ? hs[1] : hs[0];
       }
