@@ -70,23 +70,6 @@ void breakdown(const std::string& name, const core::HalfedgeMesh& disc) {
   std::fflush(stdout);
 }
 
-// The chart's vertex graph as a lower triangle (diagonal included), as SLIM's proxy has it.
-Eigen::SparseMatrix<double> vertex_graph(const core::DiscPatch& patch) {
-  const auto n = static_cast<Eigen::Index>(patch.num_vertices());
-  std::vector<Eigen::Triplet<double>> entries;
-  for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, 1.0);
-  for (const core::Triangle& tri : patch.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const auto a = static_cast<Eigen::Index>(tri[k]);
-      const auto b = static_cast<Eigen::Index>(tri[(k + 1) % 3]);
-      entries.emplace_back(std::max(a, b), std::min(a, b), 1.0);
-    }
-  }
-  Eigen::SparseMatrix<double> lower(n, n);
-  lower.setFromTriplets(entries.begin(), entries.end());
-  return lower;
-}
-
 // Entries in L and factorization flops of an analysis in `order`.
 std::pair<double, double> fill_of(const Eigen::SparseMatrix<double>& lower, std::vector<int> order) {
   core::SparseCholesky solver;
@@ -101,7 +84,7 @@ void orders(const std::string& name, const core::HalfedgeMesh& disc, int pairs) 
   const auto largest = std::max_element(patches.begin(), patches.end(), [](const auto& a, const auto& b) {
     return a.triangles.size() < b.triangles.size();
   });
-  const Eigen::SparseMatrix<double> lower = vertex_graph(*largest);
+  const Eigen::SparseMatrix<double> lower = core::vertex_graph_lower(*largest);
   std::vector<double> ours_ms, cholmod_ms;
   std::vector<int> ours, theirs;
   for (int i = 0; i < pairs; ++i) {

@@ -41,22 +41,8 @@ namespace {
 // (sparse_cholesky.h), so METIS runs once per chart instead of twice (at 1M faces about 2.6 s
 // of SLIM's 3.1 s analysis). Empty below the size where the solvers would pick AMD anyway.
 std::vector<int> shared_vertex_order(const DiscPatch& patch) {
-  const auto n = static_cast<Eigen::Index>(patch.num_vertices());
-  if (n < SparseCholesky::kNestedDissectionMin) return {};
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(3 * patch.triangles.size() + patch.num_vertices());
-  for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, 1.0);
-  for (const Triangle& tri : patch.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const auto a = static_cast<Eigen::Index>(tri[k]);
-      const auto b = static_cast<Eigen::Index>(tri[(k + 1) % 3]);
-      entries.emplace_back(std::max(a, b), std::min(a, b), 1.0);
-    }
-  }
-  Eigen::SparseMatrix<double> lower(n, n);
-  lower.setFromTriplets(entries.begin(), entries.end());
-  entries = {};
-  return nested_dissection_order(std::move(lower));
+  if (static_cast<Eigen::Index>(patch.num_vertices()) < SparseCholesky::kNestedDissectionMin) return {};
+  return nested_dissection_order(vertex_graph_lower(patch));
 }
 
 double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {

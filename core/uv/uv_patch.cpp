@@ -84,6 +84,24 @@ Vec3 corner_cotans(const DiscPatch& patch, std::size_t t) {
   return cot;
 }
 
+Eigen::SparseMatrix<double> vertex_graph_lower(const DiscPatch& patch) {
+  const auto n = static_cast<Eigen::Index>(patch.num_vertices());
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(3 * patch.triangles.size() + patch.num_vertices());
+  for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, 1.0);
+  for (const Triangle& tri : patch.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<Eigen::Index>(tri[k]);
+      const auto b = static_cast<Eigen::Index>(tri[(k + 1) % 3]);
+      entries.emplace_back(std::max(a, b), std::min(a, b), 1.0);
+    }
+  }
+  Eigen::SparseMatrix<double> lower(n, n);
+  // An edge of two triangles is listed twice: one entry, still 1.
+  lower.setFromTriplets(entries.begin(), entries.end(), [](double, double) { return 1.0; });
+  return lower;
+}
+
 Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch) {
   const auto n = static_cast<Eigen::Index>(patch.num_vertices());
   // Off-diagonal triplets only; the diagonal is summed here in the same triangle order as

@@ -43,6 +43,11 @@ inline constexpr double kCotanClamp = 1e5;
 /// L_ij = -(cot a_ij + cot b_ij)/2, L_ii = -sum_j L_ij. n x n, O(F).
 Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch);
 
+/// The patch's vertex graph as the lower triangle of a symmetric pattern, diagonal included
+/// (every value 1): the pattern the solvers of one chart share, for nested_dissection_order
+/// (sparse_cholesky.h). n x n, O(n + F).
+Eigen::SparseMatrix<double> vertex_graph_lower(const DiscPatch& patch);
+
 /// Planar coordinates of triangle t's corners in an isometric frame of its plane
 /// (corner 0 at the origin, corner 1 on the +x axis, corner 2 with y > 0).
 std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t);
