@@ -24,35 +24,47 @@ std::array<std::uint32_t, 2> boundary_far_pair(const DiscPatch& patch) {
   return {a, b};
 }
 
-Result<std::vector<Vec2>> flatten_lscm(const DiscPatch& patch, const CancelToken& cancel) {
-  const std::size_t n = patch.num_vertices();
-  auto [p0, p1] = boundary_far_pair(patch);
-  if (p0 == p1) p1 = patch.boundary[(patch.boundary.size() > 1) ? 1 : 0];
-  SEAM_ASSERT(p0 != p1);
+namespace {
 
-  // Unknowns: u_i at i, v_i at n + i. The four coordinates of the pinned pair are known.
+// The conformal energy minus the signed area as a system over the free coordinates: u_i is
+// coordinate i, v_i is n + i, and the pinned pair's four coordinates are known.
+struct LscmSystem {
+  Eigen::SparseMatrix<double> matrix;
+  Eigen::VectorXd rhs;
+  Eigen::VectorXd known;                 // every coordinate; only the pinned ones are read
+  std::vector<Eigen::Index> free_index;  // coordinate -> unknown, -1 when pinned
+
+  double value(const Eigen::VectorXd& x, std::size_t k) const {
+    return free_index[k] >= 0 ? x[free_index[k]] : known[static_cast<Eigen::Index>(k)];
+  }
+};
+
+// Pins p0 at the origin and p1 on the u axis at their 3D distance, then assembles.
+Result<LscmSystem> assemble_lscm(const DiscPatch& patch, std::size_t p0, std::size_t p1, const CancelToken& cancel) {
+  const std::size_t n = patch.num_vertices();
+  LscmSystem sys;
   const double d = (patch.positions[p1] - patch.positions[p0]).norm();
-  Eigen::VectorXd known = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(2 * n));
-  known[p1] = d > 0 ? d : 1.0;
-  std::vector<Eigen::Index> free_index(2 * n, -1);
+  sys.known = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(2 * n));
+  sys.known[static_cast<Eigen::Index>(p1)] = d > 0 ? d : 1.0;
+  sys.free_index.assign(2 * n, -1);
   Eigen::Index num_free = 0;
   for (std::size_t k = 0; k < 2 * n; ++k) {
     const std::size_t vertex = k % n;
     if (vertex == p0 || vertex == p1) continue;
-    free_index[k] = num_free++;
+    sys.free_index[k] = num_free++;
   }
 
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(patch.triangles.size() * 24 + patch.boundary.size() * 4);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(num_free);
+  sys.rhs = Eigen::VectorXd::Zero(num_free);
   auto add = [&](std::size_t r, std::size_t c, double value) {
-    const Eigen::Index fr = free_index[r];
+    const Eigen::Index fr = sys.free_index[r];
     if (fr < 0) return;
-    const Eigen::Index fc = free_index[c];
+    const Eigen::Index fc = sys.free_index[c];
     if (fc >= 0) {
       entries.emplace_back(fr, fc, value);
     } else {
-      rhs[fr] -= value * known[static_cast<Eigen::Index>(c)];
+      sys.rhs[fr] -= value * sys.known[static_cast<Eigen::Index>(c)];
     }
   };
 
@@ -85,27 +97,32 @@ Result<std::vector<Vec2>> flatten_lscm(const DiscPatch& patch, const CancelToken
     add(j, n + i, 0.5);
     add(n + i, j, 0.5);
   }
+  sys.matrix.resize(num_free, num_free);
+  sys.matrix.setFromTriplets(entries.begin(), entries.end());
+  return sys;
+}
 
-  Eigen::SparseMatrix<double> system(num_free, num_free);
-  system.setFromTriplets(entries.begin(), entries.end());
-  entries = {};
+}  // namespace
+
+Result<std::vector<Vec2>> flatten_lscm(const DiscPatch& patch, const CancelToken& cancel) {
+  const std::size_t n = patch.num_vertices();
+  auto [p0, p1] = boundary_far_pair(patch);
+  if (p0 == p1) p1 = patch.boundary[(patch.boundary.size() > 1) ? 1 : 0];
+  SEAM_ASSERT(p0 != p1);
+  SEAM_TRY(LscmSystem sys, assemble_lscm(patch, p0, p1, cancel));
   if (cancel.is_cancelled()) return cancelled_error("LSCM assembly");
 
-  SparseCholesky solver(system);
+  SparseCholesky solver(sys.matrix);
   if (solver.info() != Eigen::Success) {
-    return make_error(ErrorCode::kSolverFailed, "LSCM: the sparse LDL^T factorization failed");
+    return make_error(ErrorCode::kSolverFailed, "LSCM: the sparse Cholesky factorization failed");
   }
   if (cancel.is_cancelled()) return cancelled_error("LSCM solve");
-  const Eigen::VectorXd x = solver.solve(rhs);
+  const Eigen::VectorXd x = solver.solve(sys.rhs);
   if (solver.info() != Eigen::Success || !x.allFinite()) {
     return make_error(ErrorCode::kSolverFailed, "LSCM: the solve produced non-finite coordinates");
   }
-
   std::vector<Vec2> uv(n);
-  auto value = [&](std::size_t k) {
-    return free_index[k] >= 0 ? x[free_index[k]] : known[static_cast<Eigen::Index>(k)];
-  };
-  for (std::size_t i = 0; i < n; ++i) uv[i] = Vec2(value(i), value(n + i));
+  for (std::size_t i = 0; i < n; ++i) uv[i] = Vec2(sys.value(x, i), sys.value(x, n + i));
   return uv;
 }
 

@@ -15,7 +15,7 @@ namespace seam::core {
 /// (two farthest-point sweeps over the boundary). Returns one UV per local vertex, not yet
 /// fitted; the map is counter-clockwise like the faces.
 /// Errors: kSolverFailed (the factorization failed), kCancelled.
-/// Complexity: one sparse LDL^T of a 2n x 2n matrix (about O(n^1.5) on surface meshes).
+/// Complexity: one sparse Cholesky (LL^T) of a 2n x 2n matrix (about O(n^1.5) on surface meshes).
 Result<std::vector<Vec2>> flatten_lscm(const DiscPatch& patch, const CancelToken& cancel);
 
 /// The two boundary vertices (local ids) that LSCM pins: farthest from boundary[0], then the
