@@ -67,14 +67,12 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   }
 
   /// For systems of at least `min_unknowns` unknowns, orders by METIS nested dissection
-  /// (nested_dissection_order; CHOLMOD's analysis then reports CHOLMOD_GIVEN) instead of the
-  /// AMD that CHOLMOD picks by default for mesh Laplacians (it tries METIS only at fill ratios
-  /// meshes do not reach); AMD still if METIS fails. On a 490k-vertex triangulated grid: 20%
-  /// less fill (24.0M vs 30.2M entries in L) and 39% fewer flops per factorization (6.6 vs 10.7
-  /// GFlop);
-  /// on SLIM's proxy at 534k unknowns analysis + 5 factorizations take 13.3 s against AMD's
-  /// 14.7 s. Below 200k AMD wins: its analysis is 3-4x cheaper and, at 40k unknowns, its
-  /// simplicial factorization no slower. Call before analyzePattern / compute.
+  /// (nested_dissection_order; CHOLMOD's analysis then reports CHOLMOD_GIVEN) instead of AMD,
+  /// which every other analysis uses (also if METIS fails). On a 490k-vertex triangulated
+  /// grid: 20% less fill (24.0M vs 30.2M entries in L) and 39% fewer flops per factorization
+  /// (6.6 vs 10.7 GFlop); on SLIM's proxy at 534k unknowns analysis + 5 factorizations take
+  /// 13.3 s against AMD's 14.7 s. Below 200k AMD wins: its analysis is 3-4x cheaper and, at
+  /// 40k unknowns, its simplicial factorization no slower. Call before analyzePattern / compute.
   void prefer_nested_dissection(Eigen::Index min_unknowns = kNestedDissectionMin) {
     nested_dissection_min_ = min_unknowns;
   }
@@ -99,6 +97,11 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
         return;
       }
     }
+    // AMD alone: by default CHOLMOD also tries METIS when AMD's factor is dense enough, and
+    // METIS must not run beside another call (nested_dissection_order serializes its own). Set
+    // here because an earlier analysis in a given order changed the method.
+    cholmod().nmethods = 1;
+    cholmod().method[0].ordering = CHOLMOD_AMD;
     Base::analyzePattern(matrix);
   }
 
@@ -137,10 +140,6 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
     cholmod().print = 0;
     cholmod().supernodal = CHOLMOD_AUTO;
     cholmod().supernodal_switch = kSupernodalSwitch;
-    // AMD alone: by default CHOLMOD also tries METIS when AMD's factor is dense enough, and
-    // METIS must not run beside another call (nested_dissection_order serializes its own).
-    cholmod().nmethods = 1;
-    cholmod().method[0].ordering = CHOLMOD_AMD;
     cholmod().final_asis = 0;
     cholmod().final_ll = 1;
   }
