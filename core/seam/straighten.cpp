@@ -283,30 +283,24 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
       topo.nodes.push_back(v);
     }
   }
-  // Walked edges: per tree vertex, a mark for each of its out half-edges.
-  std::vector<std::vector<std::uint8_t>> used(touched.size());
-  for (std::size_t i = 0; i < touched.size(); ++i) used[i].assign(out[i].size(), 0);
-  auto mark_used = [&](HalfedgeId h) {
-    for (HalfedgeId g : {h, HalfedgeMesh::twin(h)}) {
-      const std::size_t i = local(mesh.tail(g));
-      const auto at = std::find(out[i].begin(), out[i].end(), g) - out[i].begin();
-      used[i][static_cast<std::size_t>(at)] = 1;
-    }
-  };
-  auto is_used = [&](HalfedgeId h) {
-    const std::size_t i = local(mesh.tail(h));
-    return used[i][static_cast<std::size_t>(std::find(out[i].begin(), out[i].end(), h) - out[i].begin())] != 0;
+  // Walked edges, marked by their place among the tree's edges (sorted).
+  std::vector<EdgeId> edges(tree.begin(), tree.end());
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint8_t> used(edges.size(), 0);
+  auto used_mark = [&](HalfedgeId h) -> std::uint8_t& {
+    const EdgeId e = HalfedgeMesh::edge(h);
+    return used[static_cast<std::size_t>(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin())];
   };
   for (std::uint32_t a = 0; a < topo.nodes.size(); ++a) {
     if (!on_tree(topo.nodes[a])) continue;  // a terminal the tree misses: no branch
     auto outgoing = out[local(topo.nodes[a])];
     std::sort(outgoing.begin(), outgoing.end());
     for (HalfedgeId start : outgoing) {
-      if (is_used(start)) continue;
+      if (used_mark(start)) continue;
       std::vector<HalfedgeId> path;
       HalfedgeId h = start;
       while (true) {
-        mark_used(h);
+        used_mark(h) = 1;
         path.push_back(h);
         const VertexId w = mesh.head(h);
         if (node_of[w.index()] >= 0) break;
