@@ -18,49 +18,66 @@ Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeI
                                  std::span<const VertexId> terminals) {
   if (edges.empty()) return make_error(ErrorCode::kTopologyViolation, "the seam tree has no edges");
   const std::size_t nv = mesh.num_vertices();
-  std::vector<std::uint32_t> degree(nv, 0);
-  UnionFind uf(nv);
-  for (EdgeId e : edges) {
-    if (!e.valid() || e.index() >= mesh.num_edges()) {
-      return make_error(ErrorCode::kTopologyViolation, "seam edge out of range", {e.value()});
-    }
+  // Edges are checked in order: an edge out of range is reported where it stands, after any
+  // cycle closed before it.
+  const auto bad =
+      std::find_if(edges.begin(), edges.end(), [&](EdgeId e) { return !e.valid() || e.index() >= mesh.num_edges(); });
+  // The tree's vertices, sorted: degrees and the union-find are indexed by them, not by the
+  // mesh's vertices (the refinement and the moves check every candidate tree).
+  std::vector<VertexId> vertices;
+  vertices.reserve(2 * static_cast<std::size_t>(bad - edges.begin()));
+  for (auto it = edges.begin(); it != bad; ++it) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(*it);
+    vertices.push_back(mesh.tail(h));
+    vertices.push_back(mesh.head(h));
+  }
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  auto local = [&](VertexId v) {
+    return static_cast<std::uint32_t>(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin());
+  };
+  auto on_tree = [&](VertexId v) { return std::binary_search(vertices.begin(), vertices.end(), v); };
+  std::vector<std::uint32_t> degree(vertices.size(), 0);
+  UnionFind uf(vertices.size());
+  for (auto it = edges.begin(); it != edges.end(); ++it) {
+    const EdgeId e = *it;
+    if (it == bad) return make_error(ErrorCode::kTopologyViolation, "seam edge out of range", {e.value()});
     const HalfedgeId h = HalfedgeMesh::halfedge(e);
-    const VertexId a = mesh.tail(h);
-    const VertexId b = mesh.head(h);
-    ++degree[a.index()];
-    ++degree[b.index()];
-    if (!uf.unite(a.value(), b.value())) {
+    const std::uint32_t a = local(mesh.tail(h));
+    const std::uint32_t b = local(mesh.head(h));
+    ++degree[a];
+    ++degree[b];
+    if (!uf.unite(a, b)) {
       return make_error(ErrorCode::kTopologyViolation,
                         "the seam has a cycle through edge " + std::to_string(e.value()) + " (or repeats it)",
                         {e.value()});
     }
   }
-  std::vector<std::uint8_t> is_terminal(nv, 0);
   for (VertexId t : terminals) {
     if (!t.valid() || t.index() >= nv) {
       return make_error(ErrorCode::kTopologyViolation, "terminal out of range", {t.value()});
     }
-    is_terminal[t.index()] = 1;
-    if (degree[t.index()] != 1) {
-      return make_error(ErrorCode::kTopologyViolation,
-                        "terminal " + std::to_string(t.value()) + " has degree " +
-                            std::to_string(degree[t.index()]) + " in the seam, not 1 (a leaf)",
-                        {t.value()});
+    const std::uint32_t d = on_tree(t) ? degree[local(t)] : 0;
+    if (d != 1) {
+      return make_error(
+          ErrorCode::kTopologyViolation,
+          "terminal " + std::to_string(t.value()) + " has degree " + std::to_string(d) + " in the seam, not 1 (a leaf)",
+          {t.value()});
     }
   }
-  const std::uint32_t root = terminals.empty() ? mesh.tail(HalfedgeMesh::halfedge(edges[0])).value()
-                                               : uf.find(terminals[0].value());
-  for (std::size_t v = 0; v < nv; ++v) {
-    if (degree[v] == 0) continue;
-    if (uf.find(static_cast<std::uint32_t>(v)) != uf.find(root)) {
+  std::vector<VertexId> sorted_terminals(terminals.begin(), terminals.end());
+  std::sort(sorted_terminals.begin(), sorted_terminals.end());
+  const std::uint32_t root =
+      uf.find(local(terminals.empty() ? mesh.tail(HalfedgeMesh::halfedge(edges[0])) : terminals[0]));
+  for (std::uint32_t i = 0; i < vertices.size(); ++i) {
+    const std::uint32_t v = vertices[i].value();
+    if (uf.find(i) != root) {
       return make_error(ErrorCode::kTopologyViolation,
-                        "the seam is not connected: vertex " + std::to_string(v) + " is apart",
-                        {static_cast<std::uint32_t>(v)});
+                        "the seam is not connected: vertex " + std::to_string(v) + " is apart", {v});
     }
-    if (degree[v] == 1 && !is_terminal[v]) {
+    if (degree[i] == 1 && !std::binary_search(sorted_terminals.begin(), sorted_terminals.end(), vertices[i])) {
       return make_error(ErrorCode::kTopologyViolation,
-                        "vertex " + std::to_string(v) + " is a dangling leaf that is not a terminal",
-                        {static_cast<std::uint32_t>(v)});
+                        "vertex " + std::to_string(v) + " is a dangling leaf that is not a terminal", {v});
     }
   }
   return Ok{};
@@ -377,6 +394,13 @@ Result<TreeTopology> hang_inner_terminals(const HalfedgeMesh& mesh, std::span<co
 Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                        std::span<const EdgeId> skeleton_edges, std::span<const VertexId> terminals,
                                        std::span<const double> edge_weights, const CancelToken& cancel) {
+  // A full-component tree (the refinement's tree after every move) is its own skeleton: the
+  // spanning forest keeps all of it, no piece is joined, nothing is pruned and no terminal is
+  // inner, so only its branches are walked (the same topology: walk_branches does not depend
+  // on the order of the edges), without the steps' work of the mesh's size.
+  if (check_full_component_tree(mesh, skeleton_edges, terminals).ok()) {
+    return std::move(walk_branches(mesh, skeleton_edges, terminals).topology);
+  }
   const std::size_t nv = mesh.num_vertices();
   const std::size_t k = terminals.size();
   std::vector<std::int32_t> terminal_of(nv, -1);

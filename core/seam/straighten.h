@@ -28,7 +28,7 @@ struct TreeTopology {
 
 /// OK when `edges` form one tree that contains every terminal, in which every terminal is
 /// a leaf (or, with two terminals, an end of the one path) and no other vertex is a leaf.
-/// Errors: kTopologyViolation naming the first offending vertex. O(|edges| + V).
+/// Errors: kTopologyViolation naming the first offending vertex. O(|edges| log |edges|).
 Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeId> edges,
                                  std::span<const VertexId> terminals);
 

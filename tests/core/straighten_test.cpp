@@ -78,6 +78,65 @@ TEST_CASE("check_full_component_tree: a path between two terminals passes; each 
   auto cycle = check_full_component_tree(mesh, cyclic, two);
   REQUIRE_FALSE(cycle.ok());
   CHECK(cycle.error().code == ErrorCode::kTopologyViolation);
+
+  // Each error names the first offender: the inner terminal, the missed one, the dangling
+  // end, the edge that closes the cycle (in the edges' order; an edge out of range after it
+  // comes second), and of a second piece its lowest vertex.
+  CHECK(not_leaf.error().elements == std::vector<std::uint32_t>{mesh.tail(mid_h).value()});
+  CHECK(missing.error().elements == std::vector<std::uint32_t>{c.value()});
+  const std::map<std::uint32_t, int> cut_degree = degrees(mesh, cut);
+  std::uint32_t dangling_end = 0;
+  for (const auto& [v, d] : cut_degree) {
+    if (d == 1 && v != a.value() && v != b.value()) {
+      dangling_end = v;
+      break;
+    }
+  }
+  // (With both terminals, b's degree 0 is named first; with a alone, the dangling end.)
+  CHECK(dangling.error().elements == std::vector<std::uint32_t>{b.value()});
+  const std::vector<VertexId> one = {a};
+  auto dangling_end_named = check_full_component_tree(mesh, cut, one);
+  REQUIRE_FALSE(dangling_end_named.ok());
+  CHECK(dangling_end_named.error().elements == std::vector<std::uint32_t>{dangling_end});
+  std::vector<EdgeId> first_closing;  // the oracle: union-find over the mesh's vertices
+  {
+    std::vector<std::uint32_t> parent(mesh.num_vertices());
+    for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+    auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x];
+      return x;
+    };
+    for (EdgeId e : cyclic) {
+      const std::uint32_t ra = find(mesh.tail(HalfedgeMesh::halfedge(e)).value());
+      const std::uint32_t rb = find(mesh.head(HalfedgeMesh::halfedge(e)).value());
+      if (ra == rb) {
+        first_closing.push_back(e);
+        break;
+      }
+      parent[ra] = rb;
+    }
+  }
+  REQUIRE(first_closing.size() == 1);
+  CHECK(cycle.error().elements == std::vector<std::uint32_t>{first_closing[0].value()});
+  std::vector<EdgeId> cyclic_then_bad = cyclic;
+  cyclic_then_bad.push_back(EdgeId(static_cast<std::uint32_t>(mesh.num_edges())));
+  auto still_cycle = check_full_component_tree(mesh, cyclic_then_bad, two);
+  REQUIRE_FALSE(still_cycle.ok());
+  CHECK(still_cycle.error().elements == cycle.error().elements);
+  std::vector<EdgeId> bad_first = {EdgeId(static_cast<std::uint32_t>(mesh.num_edges()))};
+  bad_first.insert(bad_first.end(), cyclic.begin(), cyclic.end());
+  auto out_of_range = check_full_component_tree(mesh, bad_first, two);
+  REQUIRE_FALSE(out_of_range.ok());
+  CHECK(out_of_range.error().elements == std::vector<std::uint32_t>{static_cast<std::uint32_t>(mesh.num_edges())});
+  // Two pieces: the path and, apart from it, one edge far away (around c).
+  std::vector<EdgeId> two_pieces = ab;
+  const HalfedgeId far = mesh.vertex_halfedge(c);
+  two_pieces.push_back(HalfedgeMesh::edge(far));
+  const std::uint32_t lowest_apart = std::min(mesh.tail(far).value(), mesh.head(far).value());
+  REQUIRE(degrees(mesh, ab).count(lowest_apart) == 0);
+  auto apart = check_full_component_tree(mesh, two_pieces, two);
+  REQUIRE_FALSE(apart.ok());
+  CHECK(apart.error().elements == std::vector<std::uint32_t>{lowest_apart});
 }
 
 TEST_CASE("star_tree: every terminal a leaf of one tree on random sets; refused when a terminal is walled in") {
