@@ -7,6 +7,7 @@
 #include "core/paths/forest.h"
 #include "core/paths/path_search.h"
 #include "core/seam/straighten.h"
+#include "core/seam/tree_util.h"
 
 namespace seam::core {
 
@@ -100,13 +101,7 @@ void Improver::index(std::vector<EdgeId> edges) {
   edges_ = std::move(edges);
   std::sort(edges_.begin(), edges_.end());
   length_ = tree_length(mesh_, weights_, edges_);
-  vertices_.clear();
-  for (EdgeId e : edges_) {
-    vertices_.push_back(mesh_.tail(HalfedgeMesh::halfedge(e)));
-    vertices_.push_back(mesh_.head(HalfedgeMesh::halfedge(e)));
-  }
-  std::sort(vertices_.begin(), vertices_.end());
-  vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
+  vertices_ = std::move(detail::TreeVertices(mesh_, edges_).vertices);
   out_.assign(vertices_.size(), {});
   for (std::size_t i = 0; i < vertices_.size(); ++i) local_[vertices_[i].index()] = static_cast<std::int32_t>(i);
   for (EdgeId e : edges_) {

@@ -228,18 +228,9 @@ LocalProblem local_problem(const HalfedgeMesh& mesh, const std::vector<EdgeId>& 
                            const std::vector<VertexId>& ports, std::span<const VertexId> region,
                            const std::vector<std::uint8_t>& is_terminal, std::vector<std::uint8_t>& in_rest) {
   // Union-find over the rest's vertices only, through a compact index.
-  std::vector<VertexId> rest_vertices;
-  for (EdgeId e : rest) {
-    rest_vertices.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
-    rest_vertices.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
-  }
-  for (VertexId p : ports) rest_vertices.push_back(p);
-  std::sort(rest_vertices.begin(), rest_vertices.end());
-  rest_vertices.erase(std::unique(rest_vertices.begin(), rest_vertices.end()), rest_vertices.end());
-  auto compact = [&](VertexId v) {
-    return static_cast<std::uint32_t>(std::lower_bound(rest_vertices.begin(), rest_vertices.end(), v) -
-                                      rest_vertices.begin());
-  };
+  const detail::TreeVertices rest_index(mesh, rest, ports);
+  const std::vector<VertexId>& rest_vertices = rest_index.vertices;
+  auto compact = [&](VertexId v) { return rest_index.index(v); };
   detail::UnionFind uf(rest_vertices.size());
   for (EdgeId e : rest) {
     uf.unite(compact(mesh.tail(HalfedgeMesh::halfedge(e))), compact(mesh.head(HalfedgeMesh::halfedge(e))));

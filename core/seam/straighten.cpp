@@ -12,6 +12,7 @@
 namespace seam::core {
 
 using detail::prune_dangling;
+using detail::TreeVertices;
 using detail::UnionFind;
 
 Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeId> edges,
@@ -24,27 +25,15 @@ Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeI
       std::find_if(edges.begin(), edges.end(), [&](EdgeId e) { return !e.valid() || e.index() >= mesh.num_edges(); });
   // The tree's vertices, sorted: degrees and the union-find are indexed by them, not by the
   // mesh's vertices (the refinement and the moves check every candidate tree).
-  std::vector<VertexId> vertices;
-  vertices.reserve(2 * static_cast<std::size_t>(bad - edges.begin()));
-  for (auto it = edges.begin(); it != bad; ++it) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(*it);
-    vertices.push_back(mesh.tail(h));
-    vertices.push_back(mesh.head(h));
-  }
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  auto local = [&](VertexId v) {
-    return static_cast<std::uint32_t>(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin());
-  };
-  auto on_tree = [&](VertexId v) { return std::binary_search(vertices.begin(), vertices.end(), v); };
-  std::vector<std::uint32_t> degree(vertices.size(), 0);
-  UnionFind uf(vertices.size());
+  const TreeVertices tree(mesh, edges.first(static_cast<std::size_t>(bad - edges.begin())));
+  std::vector<std::uint32_t> degree(tree.size(), 0);
+  UnionFind uf(tree.size());
   for (auto it = edges.begin(); it != edges.end(); ++it) {
     const EdgeId e = *it;
     if (it == bad) return make_error(ErrorCode::kTopologyViolation, "seam edge out of range", {e.value()});
     const HalfedgeId h = HalfedgeMesh::halfedge(e);
-    const std::uint32_t a = local(mesh.tail(h));
-    const std::uint32_t b = local(mesh.head(h));
+    const std::uint32_t a = tree.index(mesh.tail(h));
+    const std::uint32_t b = tree.index(mesh.head(h));
     ++degree[a];
     ++degree[b];
     if (!uf.unite(a, b)) {
@@ -57,7 +46,7 @@ Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeI
     if (!t.valid() || t.index() >= nv) {
       return make_error(ErrorCode::kTopologyViolation, "terminal out of range", {t.value()});
     }
-    const std::uint32_t d = on_tree(t) ? degree[local(t)] : 0;
+    const std::uint32_t d = tree.contains(t) ? degree[tree.index(t)] : 0;
     if (d != 1) {
       return make_error(
           ErrorCode::kTopologyViolation,
@@ -68,14 +57,14 @@ Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeI
   std::vector<VertexId> sorted_terminals(terminals.begin(), terminals.end());
   std::sort(sorted_terminals.begin(), sorted_terminals.end());
   const std::uint32_t root =
-      uf.find(local(terminals.empty() ? mesh.tail(HalfedgeMesh::halfedge(edges[0])) : terminals[0]));
-  for (std::uint32_t i = 0; i < vertices.size(); ++i) {
-    const std::uint32_t v = vertices[i].value();
+      uf.find(tree.index(terminals.empty() ? mesh.tail(HalfedgeMesh::halfedge(edges[0])) : terminals[0]));
+  for (std::uint32_t i = 0; i < tree.size(); ++i) {
+    const std::uint32_t v = tree.vertices[i].value();
     if (uf.find(i) != root) {
       return make_error(ErrorCode::kTopologyViolation,
                         "the seam is not connected: vertex " + std::to_string(v) + " is apart", {v});
     }
-    if (degree[i] == 1 && !std::binary_search(sorted_terminals.begin(), sorted_terminals.end(), vertices[i])) {
+    if (degree[i] == 1 && !std::binary_search(sorted_terminals.begin(), sorted_terminals.end(), tree.vertices[i])) {
       return make_error(ErrorCode::kTopologyViolation,
                         "vertex " + std::to_string(v) + " is a dangling leaf that is not a terminal", {v});
     }
@@ -266,18 +255,8 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
                              std::span<const VertexId> terminals) {
   const std::size_t nv = mesh.num_vertices();
   const std::size_t k = terminals.size();
-  std::vector<VertexId> touched;
-  touched.reserve(2 * tree.size());
-  for (EdgeId e : tree) {
-    touched.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
-    touched.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
-  }
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  auto local = [&](VertexId v) {
-    return static_cast<std::size_t>(std::lower_bound(touched.begin(), touched.end(), v) - touched.begin());
-  };
-  auto on_tree = [&](VertexId v) { return std::binary_search(touched.begin(), touched.end(), v); };
+  const TreeVertices touched(mesh, tree);
+  auto local = [&](VertexId v) { return touched.index(v); };
   std::vector<std::vector<HalfedgeId>> out(touched.size());
   for (EdgeId e : tree) {
     const HalfedgeId h = HalfedgeMesh::halfedge(e);
@@ -294,7 +273,7 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
     node_of[terminals[i].index()] = static_cast<std::int32_t>(i);
   }
   for (std::size_t i = 0; i < touched.size(); ++i) {
-    const VertexId v = touched[i];
+    const VertexId v = touched.vertices[i];
     if (node_of[v.index()] < 0 && out[i].size() >= 3) {
       node_of[v.index()] = static_cast<std::int32_t>(topo.nodes.size());
       topo.nodes.push_back(v);
@@ -309,7 +288,7 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
     return used[static_cast<std::size_t>(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin())];
   };
   for (std::uint32_t a = 0; a < topo.nodes.size(); ++a) {
-    if (!on_tree(topo.nodes[a])) continue;  // a terminal the tree misses: no branch
+    if (!touched.contains(topo.nodes[a])) continue;  // a terminal the tree misses: no branch
     auto outgoing = out[local(topo.nodes[a])];
     std::sort(outgoing.begin(), outgoing.end());
     for (HalfedgeId start : outgoing) {

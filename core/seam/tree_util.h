@@ -1,5 +1,6 @@
-// Small helpers shared by the skeleton seam's modules (tour, straighten): a union-find and
-// pruning of dangling branches. Internal to core.
+// Small helpers shared by the skeleton seam's modules (tour, straighten, refine, improve): a
+// union-find, a compact index of a tree's vertices and pruning of dangling branches. Internal
+// to core.
 #pragma once
 
 #include <algorithm>
@@ -25,6 +26,28 @@ struct UnionFind {
     if (a == b) return false;
     parent[std::max(a, b)] = std::min(a, b);
     return true;
+  }
+};
+
+// The vertices of some edges (and of `extra`), sorted and unique: a compact index for work on
+// a tree that must not cost the mesh's size. O(m log m) to build, O(log m) per lookup.
+struct TreeVertices {
+  std::vector<VertexId> vertices;
+  TreeVertices(const HalfedgeMesh& mesh, std::span<const EdgeId> edges, std::span<const VertexId> extra = {}) {
+    vertices.reserve(2 * edges.size() + extra.size());
+    for (EdgeId e : edges) {
+      vertices.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
+      vertices.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+    }
+    vertices.insert(vertices.end(), extra.begin(), extra.end());
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  }
+  std::size_t size() const { return vertices.size(); }
+  bool contains(VertexId v) const { return std::binary_search(vertices.begin(), vertices.end(), v); }
+  // Precondition: contains(v).
+  std::uint32_t index(VertexId v) const {
+    return static_cast<std::uint32_t>(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin());
   }
 };
 
