@@ -150,12 +150,7 @@ double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x
 
 double signed_area_2x(const Vec2& a, const Vec2& b, const Vec2& c) { return cross2(b - a, c - a); }
 
-// Vertex -> incident triangles, CSR: the triangles of vertex v are
-// triangles[offset[v] .. offset[v + 1]).
-struct VertexStars {
-  std::vector<std::uint32_t> offset;
-  std::vector<std::uint32_t> triangles;
-};
+}  // namespace
 
 VertexStars vertex_stars(const DiscPatch& patch) {
   const std::size_t n = patch.num_vertices();
@@ -172,8 +167,6 @@ VertexStars vertex_stars(const DiscPatch& patch) {
   }
   return s;
 }
-
-}  // namespace
 
 double max_injective_step(const DiscPatch& patch, const std::vector<Vec2>& uv, const std::vector<Vec2>& direction) {
   double best = std::numeric_limits<double>::infinity();
@@ -278,6 +271,122 @@ std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int roun
         }
       }
     }
+  }
+  return flipped;
+}
+
+namespace {
+
+// The point p maximising the smallest doubled signed area of the triangles (p, a_i, b_i), and
+// that area: a linear program in (p, t) solved by its vertices (three active constraints).
+// `ring` holds the pairs (a_i, b_i). Returns t = -infinity for no solution (parallel rows).
+std::pair<Vec2, double> max_min_area_point(const std::vector<std::pair<Vec2, Vec2>>& ring) {
+  // Doubled area of (p, a, b) = cross(a, b) + p . (a.y - b.y, b.x - a.x): c_i + g_i . p.
+  std::vector<Vec2> g;
+  std::vector<double> c;
+  for (const auto& [a, b] : ring) {
+    g.emplace_back(a.y() - b.y(), b.x() - a.x());
+    c.push_back(cross2(a, b));
+  }
+  Vec2 best_p = Vec2::Zero();
+  double best_t = -std::numeric_limits<double>::infinity();
+  const std::size_t d = ring.size();
+  for (std::size_t i = 0; i < d; ++i) {
+    for (std::size_t j = i + 1; j < d; ++j) {
+      for (std::size_t k = j + 1; k < d; ++k) {
+        // c + g . p = t for i, j, k: subtracting row i leaves a 2x2 system in p.
+        const Vec2 r1 = g[j] - g[i];
+        const Vec2 r2 = g[k] - g[i];
+        const double det = r1.x() * r2.y() - r1.y() * r2.x();
+        if (std::abs(det) < 1e-300) continue;
+        const double b1 = c[i] - c[j];
+        const double b2 = c[i] - c[k];
+        const Vec2 p((b1 * r2.y() - b2 * r1.y()) / det, (r1.x() * b2 - r2.x() * b1) / det);
+        double t = std::numeric_limits<double>::infinity();
+        for (std::size_t m = 0; m < d; ++m) t = std::min(t, c[m] + g[m].dot(p));
+        if (t > best_t) {
+          best_t = t;
+          best_p = p;
+        }
+      }
+    }
+  }
+  return {best_p, best_t};
+}
+
+// Whether moving a star's centre from `from` to `to` (where its smallest doubled area is t) is
+// taken: it must unfold some of the star's folded triangles and fold none that was not, or,
+// for a star with nothing folded, make its thinnest triangle fatter. So the fold count never
+// rises. `relaxed`: any move that raises the star's smallest area.
+bool moves_well(const std::vector<std::pair<Vec2, Vec2>>& ring, const Vec2& from, const Vec2& to, double t,
+                bool relaxed) {
+  std::size_t folded_before = 0;
+  std::size_t folded_after = 0;
+  double worst_before = std::numeric_limits<double>::infinity();
+  if (relaxed) {
+    for (const auto& [a, b] : ring) worst_before = std::min(worst_before, signed_area_2x(from, a, b));
+    return t > worst_before;
+  }
+  for (const auto& [a, b] : ring) {
+    const double before = signed_area_2x(from, a, b);
+    const bool now_folded = !(signed_area_2x(to, a, b) > 0);
+    worst_before = std::min(worst_before, before);
+    if (!(before > 0)) {
+      ++folded_before;
+    } else if (now_folded) {
+      return false;  // would fold a triangle that was not
+    }
+    if (now_folded) ++folded_after;
+  }
+  return folded_before > 0 ? folded_after < folded_before : t > worst_before;
+}
+
+}  // namespace
+
+std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds) {
+  std::size_t flipped = count_flipped(patch, uv);
+  if (flipped == 0) return 0;
+  const VertexStars stars = vertex_stars(patch);
+  std::vector<std::uint8_t> boundary(patch.num_vertices(), 0);
+  for (std::uint32_t v : patch.boundary) boundary[v] = 1;
+  std::vector<std::uint8_t> mark(patch.num_vertices(), 0);
+  std::vector<std::uint32_t> candidates;
+  std::vector<std::pair<Vec2, Vec2>> ring;
+  for (int round = 0; round < rounds && flipped > 0; ++round) {
+    // The interior corners of folded triangles and, from the second round, their neighbours.
+    std::fill(mark.begin(), mark.end(), 0);
+    candidates.clear();
+    for (const Triangle& t : patch.triangles) {
+      if (signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0) continue;
+      for (std::uint32_t v : t) {
+        if (mark[v]) continue;
+        mark[v] = 1;
+        candidates.push_back(v);
+      }
+    }
+    for (std::size_t i = 0, folded = candidates.size(); round > 0 && i < folded; ++i) {
+      for (std::uint32_t k = stars.offset[candidates[i]]; k < stars.offset[candidates[i] + 1]; ++k) {
+        for (std::uint32_t w : patch.triangles[stars.triangles[k]]) {
+          if (!mark[w]) {
+            mark[w] = 1;
+            candidates.push_back(w);
+          }
+        }
+      }
+    }
+    for (std::uint32_t v : candidates) {
+      const std::uint32_t degree = stars.offset[v + 1] - stars.offset[v];
+      if (boundary[v] || degree < 3 || degree > kUntangleMaxDegree) continue;
+      ring.clear();
+      for (std::uint32_t k = stars.offset[v]; k < stars.offset[v + 1]; ++k) {
+        const Triangle& t = patch.triangles[stars.triangles[k]];
+        const int at = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+        ring.emplace_back(uv[t[(at + 1) % 3]], uv[t[(at + 2) % 3]]);
+      }
+      const auto [p, t] = max_min_area_point(ring);
+      if (moves_well(ring, uv[v], p, t, round >= rounds / 2)) uv[v] = p;
+    }
+    flipped = count_flipped(patch, uv);
   }
   return flipped;
 }

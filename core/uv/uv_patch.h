@@ -72,6 +72,27 @@ std::size_t count_flipped(const DiscPatch& patch, const std::vector<Vec2>& uv);
 /// (never more than before). O(rounds x affected area).
 std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds = 10);
 
+/// Untangling by position: each interior corner of a folded triangle (and, from the second
+/// round, its neighbours) moves to the point that maximises the smallest signed area of its
+/// star (a linear program in the point; Freitag & Plassmann 2000's max-min untangling) when
+/// that unfolds some of its star's triangles and folds none, or, for a star with nothing
+/// folded, makes its thinnest triangle fatter. Where the star's kernel is not empty one move
+/// unfolds it, and the fold count never rises. Folds left after half the rounds (stars whose
+/// kernels are empty until a neighbour moves) get the second half with any move that raises
+/// the star's smallest area. Boundary vertices never move. Returns the folded count afterwards. O(rounds x (F +
+/// affected vertices x degree^4)); vertices of degree above kUntangleMaxDegree stay where they are.
+std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds = 20);
+inline constexpr std::uint32_t kUntangleMaxDegree = 24;
+
+/// Vertex -> incident triangles, CSR: the triangles of vertex v are
+/// triangles[offset[v] .. offset[v + 1]).
+struct VertexStars {
+  std::vector<std::uint32_t> offset;
+  std::vector<std::uint32_t> triangles;
+};
+/// O(V + F).
+VertexStars vertex_stars(const DiscPatch& patch);
+
 }  // namespace seam::core
 
 namespace seam::core {

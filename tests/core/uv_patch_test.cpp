@@ -44,3 +44,48 @@ TEST_CASE("the vertex graph is the lower triangle of the mesh's edges and the di
   CHECK(found == expected);
   CHECK(lower.nonZeros() == static_cast<Eigen::Index>(expected.size()));
 }
+
+TEST_CASE("untangle unfolds a star by moving its centre into the kernel, and moves nothing else") {
+  using seam::core::Vec2;
+  const DiscPatch patch = fx::patch_of(fx::jittered_disc(8, 24));
+  std::vector<Vec2> flat;
+  for (const auto& p : patch.positions) flat.push_back(p.head<2>());
+  REQUIRE(seam::core::count_flipped(patch, flat) == 0);
+  // Throw one interior vertex far outside its ring, and another a little way.
+  std::vector<std::uint8_t> boundary(patch.num_vertices(), 0);
+  for (std::uint32_t v : patch.boundary) boundary[v] = 1;
+  std::vector<std::uint32_t> interior;
+  for (std::uint32_t v = 0; v < patch.num_vertices(); ++v) {
+    if (!boundary[v]) interior.push_back(v);
+  }
+  REQUIRE(interior.size() > 40);
+  std::vector<Vec2> uv = flat;
+  const std::uint32_t far = interior[3];
+  const std::uint32_t near = interior[interior.size() / 2];
+  uv[far] += Vec2(0.4, -0.3);
+  uv[near] += Vec2(0.05, 0.04);
+  const std::size_t folded = seam::core::count_flipped(patch, uv);
+  REQUIRE(folded > 0);
+  CHECK(seam::core::untangle(patch, uv) == 0);
+  CHECK(seam::core::count_flipped(patch, uv) == 0);
+  // Only vertices within two rings of the thrown ones moved (the corners of folded triangles,
+  // then their neighbours); the boundary never does.
+  std::set<std::uint32_t> allowed = {far, near};
+  for (int ring = 0; ring < 2; ++ring) {
+    const std::set<std::uint32_t> inner = allowed;
+    for (const auto& t : patch.triangles) {
+      for (std::uint32_t v : t) {
+        if (inner.count(v)) allowed.insert(t.begin(), t.end());
+      }
+    }
+  }
+  for (std::uint32_t v = 0; v < patch.num_vertices(); ++v) {
+    if (uv[v] == (v == far || v == near ? uv[v] : flat[v])) continue;
+    CHECK(allowed.count(v) == 1);
+    CHECK_FALSE(boundary[v]);
+  }
+  // A fold-free map is left exactly as it is.
+  std::vector<Vec2> same = flat;
+  CHECK(seam::core::untangle(patch, same) == 0);
+  CHECK(same == flat);
+}
