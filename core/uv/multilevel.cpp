@@ -1,0 +1,453 @@
+#include "core/uv/multilevel.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "core/uv/collision.h"
+
+namespace seam::core {
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+double cross(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const Vec2 u = b - a;
+  const Vec2 v = c - a;
+  return u.x() * v.y() - u.y() * v.x();
+}
+
+// 4 sqrt(3) area / sum of squared edges: 1 for an equilateral triangle, negative when the
+// triangle is clockwise, 0 when degenerate.
+double quality(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double edges = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
+  return edges > 0 ? 2.0 * std::sqrt(3.0) * cross(a, b, c) / edges : 0.0;
+}
+
+double quality(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double edges = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
+  return edges > 0 ? 2.0 * std::sqrt(3.0) * (b - a).cross(c - a).norm() / edges : 0.0;
+}
+
+// Barycentric coordinates of p in triangle t of `uv` (positively oriented).
+Vec3 barycentric(const Vec2& p, const Triangle& t, const std::vector<Vec2>& uv) {
+  const double whole = cross(uv[t[0]], uv[t[1]], uv[t[2]]);
+  return Vec3(cross(p, uv[t[1]], uv[t[2]]) / whole, cross(uv[t[0]], p, uv[t[2]]) / whole,
+              cross(uv[t[0]], uv[t[1]], p) / whole);
+}
+
+// Barycentric coordinates moved onto the triangle (no negative weight, sum 1).
+Vec3 clamped(Vec3 b) {
+  b = b.cwiseMax(0.0);
+  const double sum = b.sum();
+  return sum > 0 ? Vec3(b / sum) : Vec3(1.0, 0.0, 0.0);
+}
+
+// The disc's triangles under half-edge collapses: vertex -> incident triangles, kept in step.
+class Collapser {
+ public:
+  Collapser(const DiscPatch& patch, const std::vector<Vec2>& uv, const CoarsenOptions& options)
+      : patch_(patch),
+        uv_(uv),
+        options_(options),
+        tris_(patch.triangles),
+        tri_alive_(tris_.size(), 1),
+        faces_of_(patch.num_vertices()),
+        boundary_(patch.num_vertices(), 0),
+        alive_(patch.num_vertices(), 1),
+        parent_(patch.num_vertices(), kNone),
+        seen_(patch.num_vertices(), 0),
+        locked_(patch.num_vertices(), 0),
+        alive_count_(patch.num_vertices()) {
+    for (std::uint32_t f = 0; f < tris_.size(); ++f) {
+      for (std::uint32_t v : tris_[f]) faces_of_[v].push_back(f);
+    }
+    for (std::uint32_t v : patch.boundary) boundary_[v] = 1;
+  }
+
+  // One round, a matching: every interior vertex not yet paired this round collapses onto its
+  // nearest unpaired neighbour that passes the checks, and that neighbour is paired. So one
+  // round at most halves the vertices and every vertex left stands for at most two of the
+  // round's start, which keeps the coarse vertices evenly spread. Returns the collapses made.
+  Result<std::size_t> round(std::size_t target, const CancelToken& cancel) {
+    ++round_;
+    std::size_t collapses = 0;
+    std::uint32_t poll = 0;
+    std::vector<std::uint32_t> ring;
+    for (std::uint32_t v = 0; v < alive_.size() && alive_count_ > target; ++v) {
+      if (cancel.poll(poll)) return cancelled_error("coarsening a chart");
+      if (!alive_[v] || boundary_[v] || locked_[v] == round_) continue;
+      neighbours(v, ring);
+      const Vec3& p = patch_.positions[v];
+      std::sort(ring.begin(), ring.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const double da = (patch_.positions[a] - p).squaredNorm();
+        const double db = (patch_.positions[b] - p).squaredNorm();
+        return da != db ? da < db : a < b;
+      });
+      for (std::uint32_t w : ring) {
+        if (locked_[w] == round_ || !collapse(v, w)) continue;
+        locked_[w] = round_;  // w has its partner for this round
+        ++collapses;
+        --alive_count_;
+        break;
+      }
+    }
+    return collapses;
+  }
+
+  std::size_t alive_count() const { return alive_count_; }
+  bool alive(std::uint32_t v) const { return alive_[v] != 0; }
+  bool tri_alive(std::uint32_t f) const { return tri_alive_[f] != 0; }
+  const Triangle& tri(std::uint32_t f) const { return tris_[f]; }
+  std::uint32_t some_face(std::uint32_t v) const { return faces_of_[v].empty() ? kNone : faces_of_[v].front(); }
+
+  // The kept vertex that v was collapsed onto, directly or through others (v itself if kept).
+  std::uint32_t kept_for(std::uint32_t v) const {
+    while (!alive_[v]) v = parent_[v];
+    return v;
+  }
+
+  // The live triangle that holds p in the start map, found by walking from a triangle at
+  // vertex `from` across the edge p lies beyond: (triangle, barycentric coordinates, their
+  // minimum). p lies near `from` (it was collapsed onto it), so the walk is a few steps; a
+  // walk that has not arrived after 256 steps returns where it got closest.
+  struct Location {
+    std::uint32_t face = kNone;
+    Vec3 barycentric = Vec3::Zero();
+    double inside = -std::numeric_limits<double>::infinity();
+  };
+  Location walk_to(std::uint32_t from, const Vec2& p) const {
+    Location best;
+    std::uint32_t f = some_face(from);
+    for (int step = 0; step < 256 && f != kNone; ++step) {
+      const Triangle& t = tris_[f];
+      const Vec3 b = barycentric(p, t, uv_);
+      Eigen::Index out = 0;
+      const double inside = b.minCoeff(&out);
+      if (inside > best.inside) best = {f, b, inside};
+      if (inside >= 0) break;
+      f = across(f, t[static_cast<std::size_t>((out + 1) % 3)], t[static_cast<std::size_t>((out + 2) % 3)]);
+    }
+    return best;
+  }
+
+ private:
+  // The live triangle other than f on edge (a, b), or kNone on the boundary.
+  std::uint32_t across(std::uint32_t f, std::uint32_t a, std::uint32_t b) const {
+    for (std::uint32_t g : faces_of_[a]) {
+      const Triangle& t = tris_[g];
+      if (g != f && (t[0] == b || t[1] == b || t[2] == b)) return g;
+    }
+    return kNone;
+  }
+
+  // The distinct neighbours of v.
+  void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) {
+    out.clear();
+    ++epoch_;
+    for (std::uint32_t f : faces_of_[v]) {
+      for (std::uint32_t u : tris_[f]) {
+        if (u != v && seen_[u] != epoch_) {
+          seen_[u] = epoch_;
+          out.push_back(u);
+        }
+      }
+    }
+  }
+
+  static std::uint32_t third(const Triangle& t, std::uint32_t a, std::uint32_t b) {
+    for (std::uint32_t u : t) {
+      if (u != a && u != b) return u;
+    }
+    return kNone;
+  }
+
+  // Moves interior vertex v onto its neighbour w, when the checks pass.
+  bool collapse(std::uint32_t v, std::uint32_t w) {
+    std::uint32_t shared[2] = {kNone, kNone};
+    int count = 0;
+    for (std::uint32_t f : faces_of_[v]) {
+      const Triangle& t = tris_[f];
+      if (t[0] != w && t[1] != w && t[2] != w) continue;
+      if (count < 2) shared[count] = f;
+      ++count;
+    }
+    if (count != 2) return false;
+    const std::uint32_t x = third(tris_[shared[0]], v, w);
+    const std::uint32_t y = third(tris_[shared[1]], v, w);
+    if (x == y) return false;
+    // Link condition: v and w have no common neighbour but x and y.
+    ++epoch_;
+    std::size_t valence_w = 0;
+    for (std::uint32_t f : faces_of_[w]) {
+      for (std::uint32_t u : tris_[f]) {
+        if (u != w && seen_[u] != epoch_) {
+          seen_[u] = epoch_;
+          ++valence_w;
+        }
+      }
+    }
+    const std::uint32_t mark = epoch_;
+    ++epoch_;
+    std::size_t valence_v = 0;
+    for (std::uint32_t f : faces_of_[v]) {
+      for (std::uint32_t u : tris_[f]) {
+        if (u == v || seen_[u] == epoch_) continue;
+        if (seen_[u] == mark && u != w && u != x && u != y) return false;
+        seen_[u] = epoch_;
+        ++valence_v;
+      }
+    }
+    if (valence_w + valence_v - 4 > options_.max_valence) return false;
+    if (!shapes_hold(v, w, shared)) return false;
+    for (std::uint32_t s : shared) {
+      tri_alive_[s] = 0;
+      for (std::uint32_t u : {w, x, y}) std::erase(faces_of_[u], s);
+    }
+    for (std::uint32_t f : faces_of_[v]) {
+      if (f == shared[0] || f == shared[1]) continue;
+      for (std::uint32_t& u : tris_[f]) {
+        if (u == v) u = w;
+      }
+      faces_of_[w].push_back(f);
+    }
+    faces_of_[v].clear();
+    alive_[v] = 0;
+    parent_[v] = w;
+    return true;
+  }
+
+  // Every triangle of v's star that survives the collapse stays positively oriented in the
+  // start map and no worse shaped (there and in 3D) than the bound or the star's worst.
+  bool shapes_hold(std::uint32_t v, std::uint32_t w, const std::uint32_t (&shared)[2]) const {
+    double worst_uv = options_.min_quality;
+    double worst_3d = options_.min_quality;
+    for (std::uint32_t f : faces_of_[v]) {
+      const Triangle& t = tris_[f];
+      worst_uv = std::min(worst_uv, quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]));
+      worst_3d = std::min(worst_3d, quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]]));
+    }
+    for (std::uint32_t f : faces_of_[v]) {
+      if (f == shared[0] || f == shared[1]) continue;
+      Triangle t = tris_[f];
+      for (std::uint32_t& u : t) {
+        if (u == v) u = w;
+      }
+      const double q_uv = quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]);
+      const double q_3d = quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]]);
+      if (!(q_uv > 0) || !(q_3d > 0) || q_uv < worst_uv || q_3d < worst_3d) return false;
+    }
+    return true;
+  }
+
+  const DiscPatch& patch_;
+  const std::vector<Vec2>& uv_;
+  const CoarsenOptions& options_;
+  std::vector<Triangle> tris_;
+  std::vector<std::uint8_t> tri_alive_;
+  std::vector<std::vector<std::uint32_t>> faces_of_;
+  std::vector<std::uint8_t> boundary_;
+  std::vector<std::uint8_t> alive_;
+  std::vector<std::uint32_t> parent_;  // a collapsed vertex -> the vertex it moved onto
+  std::vector<std::uint32_t> seen_;    // epoch stamps for neighbour sets
+  std::vector<std::uint32_t> locked_;  // round stamps: paired (collapsed or absorbed) this round
+  std::uint32_t epoch_ = 0;
+  std::uint32_t round_ = 0;
+  std::size_t alive_count_;
+};
+
+// The coarse triangles bucketed by their bounding boxes in the start map.
+class TriangleGrid {
+ public:
+  TriangleGrid(const std::vector<Triangle>& tris, const std::vector<Vec2>& uv) : tris_(tris), uv_(uv) {
+    lo_ = uv.front();
+    Vec2 hi = uv.front();
+    for (const Vec2& p : uv) {
+      lo_ = lo_.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const Vec2 size = (hi - lo_).cwiseMax(1e-300);
+    const double cell = std::sqrt(size.x() * size.y() / static_cast<double>(std::max<std::size_t>(1, tris.size())));
+    nx_ = static_cast<std::size_t>(std::clamp(std::ceil(size.x() / cell), 1.0, 4096.0));
+    ny_ = static_cast<std::size_t>(std::clamp(std::ceil(size.y() / cell), 1.0, 4096.0));
+    scale_ = Vec2(static_cast<double>(nx_) / size.x(), static_cast<double>(ny_) / size.y());
+    start_.assign(nx_ * ny_ + 1, 0);
+    for_each_cell([&](std::size_t, std::size_t c) { ++start_[c + 1]; });
+    for (std::size_t c = 0; c < nx_ * ny_; ++c) start_[c + 1] += start_[c];
+    items_.resize(start_.back());
+    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+    for_each_cell([&](std::size_t t, std::size_t c) { items_[fill[c]++] = static_cast<std::uint32_t>(t); });
+  }
+
+  // The triangle that holds p best (largest smallest barycentric coordinate), and those
+  // coordinates clamped to the triangle.
+  std::pair<std::uint32_t, Vec3> locate(const Vec2& p) const {
+    const std::size_t c = cell_y(p.y()) * nx_ + cell_x(p.x());
+    std::uint32_t best = kNone;
+    Vec3 best_bary = Vec3::Zero();
+    double best_score = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = start_[c]; i < start_[c + 1]; ++i) {
+      const Vec3 bary = barycentric(p, tris_[items_[i]], uv_);
+      const double score = bary.minCoeff();
+      if (score > best_score) {
+        best_score = score;
+        best = items_[i];
+        best_bary = bary;
+      }
+    }
+    return {best, clamped(best_bary)};
+  }
+
+ private:
+  std::size_t cell_x(double x) const {
+    return static_cast<std::size_t>(std::clamp((x - lo_.x()) * scale_.x(), 0.0, static_cast<double>(nx_ - 1)));
+  }
+  std::size_t cell_y(double y) const {
+    return static_cast<std::size_t>(std::clamp((y - lo_.y()) * scale_.y(), 0.0, static_cast<double>(ny_ - 1)));
+  }
+  template <typename F>
+  void for_each_cell(F&& visit) const {
+    for (std::size_t t = 0; t < tris_.size(); ++t) {
+      const Triangle& tri = tris_[t];
+      const Vec2 a = uv_[tri[0]].cwiseMin(uv_[tri[1]]).cwiseMin(uv_[tri[2]]);
+      const Vec2 b = uv_[tri[0]].cwiseMax(uv_[tri[1]]).cwiseMax(uv_[tri[2]]);
+      for (std::size_t y = cell_y(a.y()); y <= cell_y(b.y()); ++y) {
+        for (std::size_t x = cell_x(a.x()); x <= cell_x(b.x()); ++x) visit(t, y * nx_ + x);
+      }
+    }
+  }
+
+  const std::vector<Triangle>& tris_;
+  const std::vector<Vec2>& uv_;
+  Vec2 lo_;
+  Vec2 scale_;
+  std::size_t nx_ = 1;
+  std::size_t ny_ = 1;
+  std::vector<std::size_t> start_;
+  std::vector<std::uint32_t> items_;
+};
+
+Status check_start(const DiscPatch& patch, const std::vector<Vec2>& uv) {
+  if (uv.size() != patch.num_vertices()) {
+    return make_error(ErrorCode::kInvalidArgument, "coarsen_chart: the map has " + std::to_string(uv.size()) +
+                                                       " points for " + std::to_string(patch.num_vertices()) +
+                                                       " vertices");
+  }
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Triangle& tri = patch.triangles[t];
+    if (!(cross(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0)) {
+      return make_error(ErrorCode::kInvalidArgument, "coarsen_chart: the map folds triangle " + std::to_string(t));
+    }
+  }
+  return Ok{};
+}
+
+// The kept vertices and live triangles of `c` as a compact disc, with the start map there.
+CoarseChart compact(const DiscPatch& patch, const std::vector<Vec2>& uv, const Collapser& c,
+                    std::vector<std::uint32_t>& coarse_of, std::vector<std::uint32_t>& coarse_tri) {
+  CoarseChart coarse;
+  coarse_of.assign(patch.num_vertices(), kNone);
+  for (std::uint32_t v = 0; v < patch.num_vertices(); ++v) {
+    if (!c.alive(v)) continue;
+    coarse_of[v] = static_cast<std::uint32_t>(coarse.fine_vertex.size());
+    coarse.fine_vertex.push_back(v);
+    coarse.patch.to_mesh.push_back(patch.to_mesh[v]);
+    coarse.patch.positions.push_back(patch.positions[v]);
+    coarse.start.push_back(uv[v]);
+  }
+  coarse_tri.assign(patch.triangles.size(), kNone);
+  for (std::uint32_t f = 0; f < patch.triangles.size(); ++f) {
+    if (!c.tri_alive(f)) continue;
+    const Triangle& t = c.tri(f);
+    coarse_tri[f] = static_cast<std::uint32_t>(coarse.patch.triangles.size());
+    coarse.patch.triangles.push_back({coarse_of[t[0]], coarse_of[t[1]], coarse_of[t[2]]});
+    coarse.patch.to_mesh_face.push_back(patch.to_mesh_face[f]);
+  }
+  for (std::uint32_t v : patch.boundary) coarse.patch.boundary.push_back(coarse_of[v]);
+  return coarse;
+}
+
+}  // namespace
+
+Result<CoarseChart> coarsen_chart(const DiscPatch& patch, const std::vector<Vec2>& uv, const CoarsenOptions& options,
+                                  const CancelToken& cancel) {
+  if (Status st = check_start(patch, uv); !st.ok()) return st.take_error();
+  Collapser collapser(patch, uv, options);
+  for (int round = 0; round < 64 && collapser.alive_count() > options.target_vertices; ++round) {
+    SEAM_TRY(std::size_t collapses, collapser.round(options.target_vertices, cancel));
+    if (collapses * 100 < collapser.alive_count()) break;
+  }
+  std::vector<std::uint32_t> coarse_of, coarse_tri;
+  CoarseChart coarse = compact(patch, uv, collapser, coarse_of, coarse_tri);
+  coarse.host.resize(patch.num_vertices());
+  coarse.barycentric.resize(patch.num_vertices());
+  std::optional<TriangleGrid> grid;  // for a walk that did not arrive (none seen so far)
+  std::uint32_t poll = 0;
+  for (std::uint32_t v = 0; v < patch.num_vertices(); ++v) {
+    if (cancel.poll(poll)) return cancelled_error("coarsening a chart");
+    if (coarse_of[v] != kNone) {
+      // A kept vertex: weight 1 at its own corner of any triangle around it.
+      const std::uint32_t face = collapser.some_face(v);
+      if (face == kNone) return make_error(ErrorCode::kInvalidArgument, "coarsen_chart: an isolated vertex");
+      const std::uint32_t t = coarse_tri[face];
+      const Triangle& tri = coarse.patch.triangles[t];
+      coarse.host[v] = t;
+      coarse.barycentric[v] = Vec3(tri[0] == coarse_of[v], tri[1] == coarse_of[v], tri[2] == coarse_of[v]);
+      continue;
+    }
+    const Collapser::Location at = collapser.walk_to(collapser.kept_for(v), uv[v]);
+    if (at.inside >= -1e-12) {
+      coarse.host[v] = coarse_tri[at.face];
+      coarse.barycentric[v] = clamped(at.barycentric);
+      continue;
+    }
+    if (!grid) grid.emplace(coarse.patch.triangles, coarse.start);
+    const auto [t, bary] = grid->locate(uv[v]);
+    if (t == kNone) return make_error(ErrorCode::kSolverFailed, "coarsen_chart: a vertex lies in no coarse triangle");
+    coarse.host[v] = t;
+    coarse.barycentric[v] = bary;
+  }
+  return coarse;
+}
+
+std::vector<Vec2> prolongate(const CoarseChart& coarse, const std::vector<Vec2>& coarse_uv) {
+  SEAM_ASSERT(coarse_uv.size() == coarse.patch.num_vertices());
+  std::vector<Vec2> uv(coarse.host.size());
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    const Triangle& t = coarse.patch.triangles[coarse.host[v]];
+    const Vec3& b = coarse.barycentric[v];
+    uv[v] = b[0] * coarse_uv[t[0]] + b[1] * coarse_uv[t[1]] + b[2] * coarse_uv[t[2]];
+  }
+  return uv;
+}
+
+Result<TwoLevelResult> slim_two_level(const DiscPatch& patch, const std::vector<Vec2>& start,
+                                      std::size_t coarse_vertices, const SlimOptions& slim, const CancelToken& cancel) {
+  using Clock = std::chrono::steady_clock;
+  auto lap = [clock = Clock::now()]() mutable {
+    const Clock::time_point now = Clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - clock).count();
+    clock = now;
+    return ms;
+  };
+  SEAM_TRY(CoarseChart coarse, coarsen_chart(patch, start, {.target_vertices = coarse_vertices}, cancel));
+  TwoLevelResult result;
+  result.coarsen_ms = lap();
+  result.coarse_vertices = coarse.patch.num_vertices();
+  SEAM_TRY(result.coarse, flatten_slim(coarse.patch, coarse.start, slim, cancel));
+  result.slim_ms = lap();
+  result.uv = prolongate(coarse, result.coarse.uv);
+  // A fine triangle across a coarse edge where the coarse map bends can fold (up to a few dozen
+  // at 200k-1M faces); moving interior vertices within their stars unfolds them.
+  result.folds_untangled = count_flipped(patch, result.uv);
+  const bool folded = untangle(patch, result.uv) > 0;
+  if (folded || (slim.injective && !boundary_is_simple(patch, result.uv))) result.uv.clear();
+  result.finish_ms = lap();
+  return result;
+}
+
+}  // namespace seam::core

@@ -1,0 +1,85 @@
+// Two-level flattening of large charts: a flattened disc is coarsened in its own UV plane, the
+// coarse chart is optimised (SLIM, slim.h), and the fine map follows as the composition of the
+// start with the coarse chart's piecewise-affine change.
+//
+// Why this works for SLIM started from BFF: BFF's map is conformal, so its distortion is a
+// smooth scale field, and what SLIM changes is smooth too. A coarse triangle covering dozens
+// of fine ones can carry that change; the fine map keeps BFF's angles inside it. And it stays
+// valid by construction: every fine vertex lies in one coarse triangle of the start map, each
+// coarse triangle moves by an orientation-preserving affine map, and every boundary vertex is
+// kept, so the fine boundary is the coarse boundary and injective when that is.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/error.h"
+#include "core/uv/slim.h"
+#include "core/uv/uv_patch.h"
+
+namespace seam::core {
+
+/// A coarser triangulation of a flattened disc and where every fine vertex sits in it.
+struct CoarseChart {
+  /// The coarse disc: the kept vertices (every boundary vertex among them) with their 3D
+  /// positions, and triangles that tile the same region of the start map as the fine ones.
+  DiscPatch patch;
+  std::vector<Vec2> start;                 ///< the start map at the coarse vertices
+  std::vector<std::uint32_t> fine_vertex;  ///< coarse vertex -> fine vertex
+  /// Per fine vertex: the coarse triangle that holds it in the start map, and its barycentric
+  /// coordinates there (a kept vertex is a corner of its triangle, weight 1).
+  std::vector<std::uint32_t> host;
+  std::vector<Vec3> barycentric;
+};
+
+struct CoarsenOptions {
+  /// Stop once at most this many vertices are left (boundary vertices are all kept, so a
+  /// chart can stay above it), or when a round of collapses removes less than 1%.
+  std::size_t target_vertices = 0;
+  /// No collapse makes a triangle worse shaped than this (4 sqrt(3) area / sum of squared
+  /// edges: 1 equilateral) in the start map or in 3D, unless the fine triangles around it
+  /// already were.
+  double min_quality = 0.15;
+  /// No vertex gets more neighbours than this.
+  std::size_t max_valence = 12;
+};
+
+/// Coarsens `patch` by half-edge collapses of interior vertices onto their neighbours (shortest
+/// 3D edge first, independent sets of collapses per round), each kept only when it keeps the
+/// mesh a manifold disc (the link condition) and every new triangle positively oriented in
+/// `uv` within the quality bound. Then locates every fine vertex in the coarse triangles.
+/// Errors: kInvalidArgument (`uv` not one point per vertex, a triangle of `uv` not positively
+/// oriented, or a vertex on no triangle), kSolverFailed (a vertex in no coarse triangle, which
+/// a valid start rules out), kCancelled. O((V + F) x rounds) plus O(V) for the location.
+/// Deterministic.
+Result<CoarseChart> coarsen_chart(const DiscPatch& patch, const std::vector<Vec2>& uv, const CoarsenOptions& options,
+                                  const CancelToken& cancel = CancelToken::none());
+
+/// The fine map for a map of the coarse chart: each fine vertex at its barycentric place in its
+/// host triangle. `coarse_uv` has one point per coarse vertex (SEAM_ASSERT). O(V).
+std::vector<Vec2> prolongate(const CoarseChart& coarse, const std::vector<Vec2>& coarse_uv);
+
+struct TwoLevelResult {
+  /// The fine map, at 3D scale; empty when the two-level map would fold or overlap itself
+  /// (then the caller flattens the chart itself).
+  std::vector<Vec2> uv;
+  SlimResult coarse;  ///< SLIM on the coarse chart (its uv is the coarse map)
+  std::size_t coarse_vertices = 0;
+  std::size_t folds_untangled = 0;  ///< fine triangles folded by the prolongation, then unfolded
+  double coarsen_ms = 0;            ///< coarsen_chart
+  double slim_ms = 0;               ///< SLIM on the coarse chart
+  double finish_ms = 0;             ///< prolongation, untangling and the boundary check
+};
+
+/// SLIM on a coarse copy of `patch` (coarsen_chart to `coarse_vertices`, then flatten_slim
+/// with `slim`, whose vertex_order must be empty), carried back by prolongate; triangles that
+/// the composition folds are unfolded by untangle (uv_patch.h). `start` must be fold-free
+/// (BFF's map after repair_flips). Errors: those of coarsen_chart and flatten_slim
+/// (kInvalidArgument, kSolverFailed, kCancelled). O(V + F) plus SLIM on the coarse chart.
+Result<TwoLevelResult> slim_two_level(const DiscPatch& patch, const std::vector<Vec2>& start,
+                                      std::size_t coarse_vertices, const SlimOptions& slim,
+                                      const CancelToken& cancel = CancelToken::none());
+
+}  // namespace seam::core
