@@ -22,6 +22,7 @@
 #include "core/mesh/topology.h"
 #include "core/seam/seam.h"
 #include "core/uv/bff.h"
+#include "core/uv/multilevel.h"
 #include "core/uv/parameterize.h"
 #include "core/uv/slim.h"
 #include "core/uv/sparse_cholesky.h"
@@ -62,11 +63,21 @@ void breakdown(const std::string& name, const core::HalfedgeMesh& disc) {
   const double slim_ms = bench::best_ms(1, [&] {
     slim = core::flatten_slim(*largest, start, {}, core::CancelToken::none()).value();
   });
+  const core::TwoLevelResult two =
+      core::slim_two_level(*largest, start, std::max<std::size_t>(largest->num_vertices() / 8, 30000), {}).value();
   const core::SlimTimings& t = slim.timings;
   std::printf("%-10s %9zu %8.0f %8.0f %5d %5d %6.3f %6.3f %4d %7.0f %7.0f %8.0f %7.0f %7.0f %7.0f%s\n",
               name.c_str(), largest->triangles.size(), bff_ms, slim_ms, slim.iterations, slim.factorizations,
               slim.energy_start, slim.energy_end, slim.collision_limited_steps, t.start_ms, t.analyze_ms,
               t.assemble_ms, t.factor_ms, t.line_search_ms, t.collision_ms, slim.tutte_start ? " (tutte start)" : "");
+  const core::SlimTimings& c = two.coarse.timings;
+  std::printf(
+      "%-10s %9s %8s %8.0f %5d %5d %6.3f %6.3f %4d %7.0f %7.0f %8.0f %7.0f %7.0f %7.0f  two-level: %zu coarse "
+      "vertices, coarsen %.0f ms, prolong+untangle %.0f ms (%zu folds)%s\n",
+      "", "", "", two.coarsen_ms + two.slim_ms + two.finish_ms, two.coarse.iterations, two.coarse.factorizations,
+      two.coarse.energy_start, two.coarse.energy_end, two.coarse.collision_limited_steps, c.start_ms, c.analyze_ms,
+      c.assemble_ms, c.factor_ms, c.line_search_ms, c.collision_ms, two.coarse_vertices, two.coarsen_ms, two.finish_ms,
+      two.folds_untangled, two.uv.empty() ? " FOLDED: falls back" : "");
   std::fflush(stdout);
 }
 
@@ -106,40 +117,27 @@ void orders(const std::string& name, const core::HalfedgeMesh& disc, int pairs) 
   std::fflush(stdout);
 }
 
-// Paired parameterize() runs, BFF then the default, `pairs` times; medians and their ratio.
+// Paired parameterize() runs: BFF, the default (two-level SLIM on charts this large) and SLIM
+// on the whole chart, `pairs` times; medians, the default's ratio to BFF and both SLIMs'
+// distortion.
 void paired(const std::string& name, const core::HalfedgeMesh& disc, int pairs) {
-  std::vector<double> bff;
-  std::vector<double> def;
-  core::Distortion d;
-  std::size_t flips = 0;
-  double overlap = 0;
+  std::vector<double> bff, def, full;
+  core::UvResult d, f;
   for (int i = 0; i < pairs; ++i) {
     bff.push_back(bench::best_ms(1, [&] { (void)core::parameterize(disc, {.method = core::UvMethod::kBff}); }));
-    def.push_back(bench::best_ms(1, [&] {
-      auto r = core::parameterize(disc, {}).value();
-      d = r.distortion;
-      flips = r.distortion.flipped;
-      overlap = r.overlap_area;
-    }));
+    def.push_back(bench::best_ms(1, [&] { d = core::parameterize(disc, {}).value(); }));
+    full.push_back(bench::best_ms(1, [&] { f = core::parameterize(disc, {.multilevel_min_faces = 0}).value(); }));
   }
   const double ratio = median(def) / median(bff);
-  std::printf("%-10s %9zu %9.0f %9.0f %6.2f %-6s %8.3f %6.3f %6zu %8.2g\n", name.c_str(), disc.num_faces(),
-              median(bff), median(def), ratio, ratio <= kTargetRatio ? "met" : "missed", d.area_geometric, d.angle,
-              flips, overlap);
+  std::printf("%-10s %9zu %9.0f %9.0f %9.0f %6.2f %-6s %8.3f %8.3f %6.3f %6.3f %6zu %8.2g\n", name.c_str(),
+              disc.num_faces(), median(bff), median(def), median(full), ratio, ratio <= kTargetRatio ? "met" : "missed",
+              d.distortion.area_geometric, f.distortion.area_geometric, d.distortion.angle, f.distortion.angle,
+              d.distortion.flipped, d.overlap_area);
   std::fflush(stdout);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  seam::bench::run_as_deployed(argv);
-  const int pairs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
-  const std::size_t min_faces = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 900'000;
-  std::vector<std::string> names = {"lion-head", "camel"};
-  if (argc > 3) names.assign(argv + 3, argv + argc);
-  std::vector<core::HalfedgeMesh> discs;
-  for (const auto& name : names) discs.push_back(disc_of(name, min_faces));
-
+// The per-stage breakdown and the order table.
+void sections(const std::vector<std::string>& names, const std::vector<core::HalfedgeMesh>& discs, int pairs) {
   std::printf("== SLIM on the largest chart, ms (one run each)\n");
   std::printf("%-10s %9s %8s %8s %5s %5s %6s %6s %4s %7s %7s %8s %7s %7s %7s\n", "mesh", "faces", "bff", "slim",
               "iters", "facts", "E0", "E1", "coll", "start", "analyze", "assemble", "factor", "search", "collide");
@@ -152,11 +150,29 @@ int main(int argc, char** argv) {
   std::printf("%-10s %9s %9s %9s %6s %8s %8s %7s %7s\n", "mesh", "vertices", "ours ms", "cholmod", "ratio", "L ours",
               "L chol", "GF ours", "GF chol");
   for (std::size_t i = 0; i < names.size(); ++i) orders(names[i], discs[i], pairs);
+}
 
-  std::printf("\n== parameterize(): default vs uv=bff, median of %d pairs (target ratio <= %.1f)\n", pairs,
-              kTargetRatio);
-  std::printf("%-10s %9s %9s %9s %6s %-6s %8s %6s %6s %8s\n", "mesh", "faces", "bff ms", "default", "ratio", "target",
-              "area_g", "angle", "flips", "overlap");
+}  // namespace
+
+int main(int argc, char** argv) {
+  seam::bench::run_as_deployed(argv);
+  // --paired: the paired table alone.
+  const bool paired_only = argc > 1 && std::string(argv[1]) == "--paired";
+  if (paired_only) --argc, ++argv;
+  const int pairs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  const std::size_t min_faces = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 900'000;
+  std::vector<std::string> names = {"lion-head", "camel"};
+  if (argc > 3) names.assign(argv + 3, argv + argc);
+  std::vector<core::HalfedgeMesh> discs;
+  for (const auto& name : names) discs.push_back(disc_of(name, min_faces));
+
+  if (!paired_only) sections(names, discs, pairs);
+  std::printf(
+      "\n== parameterize(): default vs uv=bff, median of %d pairs (target ratio <= %.1f); single =\n"
+      "   SLIM on the whole chart (the default below multilevel_min_faces)\n",
+      pairs, kTargetRatio);
+  std::printf("%-10s %9s %9s %9s %9s %6s %-6s %8s %8s %6s %6s %6s %8s\n", "mesh", "faces", "bff ms", "default",
+              "single", "ratio", "target", "area_g", "single", "angle", "single", "flips", "overlap");
   for (std::size_t i = 0; i < names.size(); ++i) paired(names[i], discs[i], pairs);
   return 0;
 }

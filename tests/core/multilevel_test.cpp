@@ -14,12 +14,14 @@
 #include <string>
 #include <utility>
 
+#include "core/atlas/overlap.h"
 #include "core/extrema/extrema.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/topology.h"
 #include "core/seam/seam.h"
 #include "core/uv/bff.h"
 #include "core/uv/collision.h"
+#include "core/uv/parameterize.h"
 #include "test_data.h"
 #include "uv_fixture.h"
 
@@ -251,4 +253,26 @@ TEST_CASE("real charts on 1/3 of their vertices: no fold, a simple boundary, nea
     // service uses: this bounds the loss loosely (the benchmark measures it at scale).
     CHECK(two <= 1.25 * one);
   }
+}
+
+TEST_CASE("parameterize takes the two-level path from multilevel_min_faces on, and reports it") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("lion-head");
+  auto forced = parameterize(mesh, {.multilevel_min_faces = 1});
+  auto off = parameterize(mesh, {.multilevel_min_faces = 0});
+  auto above = parameterize(mesh, {.multilevel_min_faces = mesh.num_faces() + 1});
+  REQUIRE(forced.ok());
+  REQUIRE(off.ok());
+  REQUIRE(above.ok());
+  CHECK(forced->two_level_charts == 1);
+  CHECK(forced->two_level_fallbacks == 0);
+  CHECK(off->two_level_charts == 0);
+  CHECK(above->two_level_charts == 0);
+  CHECK(off->distortion.area_geometric == above->distortion.area_geometric);
+  CHECK(off->distortion.angle == above->distortion.angle);
+  CHECK(forced->distortion.flipped == 0);
+  CHECK(forced->charts_not_injective == 0);
+  CHECK(forced->overlap_area == 0);
+  auto overlap = find_overlaps(mesh, forced->uv, CancelToken::none());
+  REQUIRE(overlap.ok());
+  CHECK(overlap->overlap_area == 0);
 }
