@@ -317,9 +317,10 @@ std::pair<Vec2, double> max_min_area_point(const std::vector<std::pair<Vec2, Vec
 // Whether moving a star's centre from `from` to `to` (where its smallest doubled area is t) is
 // taken: it must unfold some of the star's folded triangles and fold none that was not, or,
 // for a star with nothing folded, make its thinnest triangle fatter. So the fold count never
-// rises. `relaxed`: any move that raises the star's smallest area.
+// rises. `relaxed`: any move that raises the star's smallest area. "Folded": a doubled signed
+// area at most `floor`.
 bool moves_well(const std::vector<std::pair<Vec2, Vec2>>& ring, const Vec2& from, const Vec2& to, double t,
-                bool relaxed) {
+                bool relaxed, double floor) {
   std::size_t folded_before = 0;
   std::size_t folded_after = 0;
   double worst_before = std::numeric_limits<double>::infinity();
@@ -329,9 +330,9 @@ bool moves_well(const std::vector<std::pair<Vec2, Vec2>>& ring, const Vec2& from
   }
   for (const auto& [a, b] : ring) {
     const double before = signed_area_2x(from, a, b);
-    const bool now_folded = !(signed_area_2x(to, a, b) > 0);
+    const bool now_folded = !(signed_area_2x(to, a, b) > floor);
     worst_before = std::min(worst_before, before);
-    if (!(before > 0)) {
+    if (!(before > floor)) {
       ++folded_before;
     } else if (now_folded) {
       return false;  // would fold a triangle that was not
@@ -343,8 +344,12 @@ bool moves_well(const std::vector<std::pair<Vec2, Vec2>>& ring, const Vec2& from
 
 }  // namespace
 
-std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds) {
-  std::size_t flipped = count_flipped(patch, uv);
+std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, double min_area_2x) {
+  auto thin = [&](const Triangle& t) { return !(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > min_area_2x); };
+  auto count_thin = [&] {
+    return static_cast<std::size_t>(std::count_if(patch.triangles.begin(), patch.triangles.end(), thin));
+  };
+  std::size_t flipped = count_thin();
   if (flipped == 0) return 0;
   const VertexStars stars = vertex_stars(patch);
   std::vector<std::uint8_t> boundary(patch.num_vertices(), 0);
@@ -357,7 +362,7 @@ std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds) 
     std::fill(mark.begin(), mark.end(), 0);
     candidates.clear();
     for (const Triangle& t : patch.triangles) {
-      if (signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0) continue;
+      if (!thin(t)) continue;
       for (std::uint32_t v : t) {
         if (mark[v]) continue;
         mark[v] = 1;
@@ -384,9 +389,9 @@ std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds) 
         ring.emplace_back(uv[t[(at + 1) % 3]], uv[t[(at + 2) % 3]]);
       }
       const auto [p, t] = max_min_area_point(ring);
-      if (moves_well(ring, uv[v], p, t, round >= rounds / 2)) uv[v] = p;
+      if (moves_well(ring, uv[v], p, t, round >= rounds / 2, min_area_2x)) uv[v] = p;
     }
-    flipped = count_flipped(patch, uv);
+    flipped = count_thin();
   }
   return flipped;
 }

@@ -79,9 +79,11 @@ std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int roun
 /// folded, makes its thinnest triangle fatter. Where the star's kernel is not empty one move
 /// unfolds it, and the fold count never rises. Folds left after half the rounds (stars whose
 /// kernels are empty until a neighbour moves) get the second half with any move that raises
-/// the star's smallest area. Boundary vertices never move. Returns the folded count afterwards. O(rounds x (F +
+/// the star's smallest area. Boundary vertices never move. Returns the folded count afterwards.
+/// With `min_area_2x` > 0, a triangle counts as folded when its doubled signed area is at most
+/// that (fattening triangles thinner than a storage precision, e.g. float32's). O(rounds x (F +
 /// affected vertices x degree^4)); vertices of degree above kUntangleMaxDegree stay where they are.
-std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds = 20);
+std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds = 20, double min_area_2x = 0.0);
 inline constexpr std::uint32_t kUntangleMaxDegree = 24;
 
 /// Vertex -> incident triangles, CSR: the triangles of vertex v are

@@ -89,3 +89,29 @@ TEST_CASE("untangle unfolds a star by moving its centre into the kernel, and mov
   CHECK(seam::core::untangle(patch, same) == 0);
   CHECK(same == flat);
 }
+
+TEST_CASE("untangle with an area floor fattens thin triangles without folding any") {
+  using seam::core::Vec2;
+  const DiscPatch patch = fx::patch_of(fx::disc(6, 16));
+  std::vector<Vec2> uv;
+  for (const auto& p : patch.positions) uv.push_back(p.head<2>());
+  // Vertex 0 (the centre) nearly onto the first ring: its triangles towards there go thin.
+  uv[0] = 0.999 * uv[1];
+  auto thinnest = [&] {
+    double least = 1e300;
+    for (const auto& t : patch.triangles) {
+      const Vec2 a = uv[t[1]] - uv[t[0]];
+      const Vec2 b = uv[t[2]] - uv[t[0]];
+      least = std::min(least, a.x() * b.y() - a.y() * b.x());
+    }
+    return least;
+  };
+  const double before = thinnest();
+  REQUIRE(before > 0);
+  const double floor = 1e-3;
+  REQUIRE(before < floor);
+  CHECK(seam::core::untangle(patch, uv, 20, floor) == 0);
+  CHECK(thinnest() > floor);
+  CHECK(seam::core::count_flipped(patch, uv) == 0);
+  CHECK(uv[0].norm() < 0.1);  // back near the centre of its ring
+}
