@@ -14,6 +14,7 @@ namespace seam::core {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr double kThinArea2x = 1e-11;
 
 double cross(const Vec2& a, const Vec2& b, const Vec2& c) {
   const Vec2 u = b - a;
@@ -47,6 +48,26 @@ Vec3 clamped(Vec3 b) {
   return sum > 0 ? Vec3(b / sum) : Vec3(1.0, 0.0, 0.0);
 }
 
+// Per vertex, the log of the start map's linear scale around it: half the log of UV over 3D
+// area, averaged over the vertex's triangles weighted by 3D area (0 where all are degenerate).
+std::vector<double> vertex_log_scales(const DiscPatch& patch, const std::vector<Vec2>& uv) {
+  std::vector<double> sum(patch.num_vertices(), 0.0);
+  std::vector<double> weight(patch.num_vertices(), 0.0);
+  for (const Triangle& t : patch.triangles) {
+    const Vec3& p0 = patch.positions[t[0]];
+    const double area_3d = 0.5 * (patch.positions[t[1]] - p0).cross(patch.positions[t[2]] - p0).norm();
+    const double area_uv = 0.5 * cross(uv[t[0]], uv[t[1]], uv[t[2]]);
+    if (!(area_3d > 0) || !(area_uv > 0)) continue;
+    const double log_scale = 0.5 * std::log(area_uv / area_3d);
+    for (std::uint32_t v : t) {
+      sum[v] += area_3d * log_scale;
+      weight[v] += area_3d;
+    }
+  }
+  for (std::size_t v = 0; v < sum.size(); ++v) sum[v] = weight[v] > 0 ? sum[v] / weight[v] : 0.0;
+  return sum;
+}
+
 // The disc's triangles under half-edge collapses: vertex -> incident triangles, kept in step.
 class Collapser {
  public:
@@ -67,6 +88,7 @@ class Collapser {
       for (std::uint32_t v : tris_[f]) faces_of_[v].push_back(f);
     }
     for (std::uint32_t v : patch.boundary) boundary_[v] = 1;
+    log_scale_ = vertex_log_scales(patch, uv);
   }
 
   // One round, a matching: every interior vertex not yet paired this round collapses onto its
@@ -237,6 +259,8 @@ class Collapser {
       for (std::uint32_t& u : t) {
         if (u == v) u = w;
       }
+      const auto [lo, hi] = std::minmax({log_scale_[t[0]], log_scale_[t[1]], log_scale_[t[2]]});
+      if (hi - lo > max_log_scale_range_) return false;
       const double q_uv = quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]);
       const double q_3d = quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]]);
       if (!(q_uv > 0) || !(q_3d > 0) || q_uv < worst_uv || q_3d < worst_3d) return false;
@@ -253,8 +277,10 @@ class Collapser {
   std::vector<std::uint8_t> boundary_;
   std::vector<std::uint8_t> alive_;
   std::vector<std::uint32_t> parent_;  // a collapsed vertex -> the vertex it moved onto
+  std::vector<double> log_scale_;      // per vertex: log of the start map's scale around it
   std::vector<std::uint32_t> seen_;    // epoch stamps for neighbour sets
   std::vector<std::uint32_t> locked_;  // round stamps: paired (collapsed or absorbed) this round
+  double max_log_scale_range_ = std::log(options_.max_scale_ratio);
   std::uint32_t epoch_ = 0;
   std::uint32_t round_ = 0;
   std::size_t alive_count_;
@@ -445,6 +471,20 @@ Result<TwoLevelResult> slim_two_level(const DiscPatch& patch, const std::vector<
   // at 200k-1M faces); moving interior vertices within their stars unfolds them.
   result.folds_untangled = count_flipped(patch, result.uv);
   const bool folded = untangle(patch, result.uv) > 0;
+  // Triangles that a squeezed start leaves thinner than float32 can keep once the chart is
+  // fitted into the unit square (doubled area 1e-11 of the chart's extent squared, about
+  // 1e-5 of a triangle's share at 1M faces; rounding flipped two such at 1.25M faces) are
+  // fattened the same way, as far as their stars allow.
+  if (!folded) {
+    Vec2 lo = result.uv.front();
+    Vec2 hi = lo;
+    for (const Vec2& p : result.uv) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const double extent = (hi - lo).maxCoeff();
+    result.thin_left = untangle(patch, result.uv, 20, kThinArea2x * extent * extent);
+  }
   if (folded || (slim.injective && !boundary_is_simple(patch, result.uv))) result.uv.clear();
   result.finish_ms = lap();
   return result;

@@ -44,6 +44,12 @@ struct CoarsenOptions {
   double min_quality = 0.15;
   /// No vertex gets more neighbours than this.
   std::size_t max_valence = 12;
+  /// No coarse triangle joins vertices whose scales in the start map (UV over 3D length, the
+  /// mean over each vertex's triangles) differ by more than this factor. A conformal start
+  /// shrinks a limb exponentially towards its tip; a coarse triangle spanning that squeeze
+  /// would carry its fine triangles' shrinking into the result (down to float32 resolution
+  /// at 1.25M faces). So the coarse chart stays finer where the start's scale changes fast.
+  double max_scale_ratio = 2.0;
 };
 
 /// Coarsens `patch` by half-edge collapses of interior vertices onto their neighbours (shortest
@@ -68,6 +74,9 @@ struct TwoLevelResult {
   SlimResult coarse;  ///< SLIM on the coarse chart (its uv is the coarse map)
   std::size_t coarse_vertices = 0;
   std::size_t folds_untangled = 0;  ///< fine triangles folded by the prolongation, then unfolded
+  /// Triangles left thinner than float32 keeps in the unit square (doubled area below 1e-11
+  /// of the chart's extent squared) after fattening them (untangle with that floor).
+  std::size_t thin_left = 0;
   double coarsen_ms = 0;            ///< coarsen_chart
   double slim_ms = 0;               ///< SLIM on the coarse chart
   double finish_ms = 0;             ///< prolongation, untangling and the boundary check
@@ -75,7 +84,8 @@ struct TwoLevelResult {
 
 /// SLIM on a coarse copy of `patch` (coarsen_chart to `coarse_vertices`, then flatten_slim
 /// with `slim`, whose vertex_order must be empty), carried back by prolongate; triangles that
-/// the composition folds are unfolded by untangle (uv_patch.h). `start` must be fold-free
+/// the composition folds are unfolded, and those too thin for float32 fattened, by untangle
+/// (uv_patch.h). `start` must be fold-free
 /// (BFF's map after repair_flips). Errors: those of coarsen_chart and flatten_slim
 /// (kInvalidArgument, kSolverFailed, kCancelled). O(V + F) plus SLIM on the coarse chart.
 Result<TwoLevelResult> slim_two_level(const DiscPatch& patch, const std::vector<Vec2>& start,

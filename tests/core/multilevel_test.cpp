@@ -244,6 +244,7 @@ TEST_CASE("real charts on 1/3 of their vertices: no fold, a simple boundary, nea
     REQUIRE(two_level->uv.size() == patch.num_vertices());
     CHECK(count_flipped(patch, two_level->uv) == 0);
     CHECK(boundary_is_simple(patch, two_level->uv));
+    CHECK(two_level->thin_left == 0);
     const double two = area_geometric(patch, two_level->uv);
     const double one = area_geometric(patch, single->uv);
     MESSAGE(name << ": " << patch.triangles.size() << " faces, " << two_level->coarse_vertices
