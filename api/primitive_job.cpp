@@ -288,7 +288,8 @@ json uv_summary(const core::UvResult& uv) {
           {"stretch_l2", d.stretch_l2},
           {"stretch_linf", d.stretch_linf},
           {"flipped", d.flipped},
-          {"overlap_area", uv.overlap_area}};
+          {"overlap_area", uv.overlap_area},
+          {"two_level_charts", uv.two_level_charts}};
 }
 
 // The new UVs per output vertex. glTF puts the texture origin top-left with v growing down;

@@ -127,6 +127,7 @@ TEST_CASE("by default every triangle primitive is cut once, lines kept, the asse
     got.emplace(p["mesh"].get<int>(), p["primitive"].get<int>());
     CHECK(p["uv"]["flipped"] == 0);
     CHECK(p["uv"]["overlap_area"] == 0.0);
+    CHECK(p["uv"]["two_level_charts"] == 0);  // small charts: SLIM on the whole chart
     CHECK(p["cut"]["euler_characteristic"] == p["topology"]["components"]);
   }
   CHECK(got == expected);
