@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "core/uv/collision.h"
@@ -68,27 +69,69 @@ std::vector<double> vertex_log_scales(const DiscPatch& patch, const std::vector<
   return sum;
 }
 
+// Vertex -> incident live triangles, in one array: each vertex has room for its starting
+// count or `room` triangles, whichever is more (a collapse never gives a vertex more than
+// max_valence). Removal keeps the order.
+class StarLists {
+ public:
+  StarLists(const std::vector<Triangle>& tris, std::size_t n, std::size_t room) : offset_(n + 1, 0), size_(n, 0) {
+    for (const Triangle& t : tris) {
+      for (std::uint32_t v : t) ++size_[v];
+    }
+    for (std::size_t v = 0; v < n; ++v) offset_[v + 1] = offset_[v] + std::max<std::size_t>(size_[v], room);
+    slots_.resize(offset_[n]);
+    std::fill(size_.begin(), size_.end(), 0);
+    for (std::uint32_t f = 0; f < tris.size(); ++f) {
+      for (std::uint32_t v : tris[f]) push(v, f);
+    }
+  }
+  std::span<const std::uint32_t> operator[](std::uint32_t v) const { return {slots_.data() + offset_[v], size_[v]}; }
+  void push(std::uint32_t v, std::uint32_t f) {
+    SEAM_ASSERT(offset_[v] + size_[v] < offset_[v + 1]);
+    slots_[offset_[v] + size_[v]++] = f;
+  }
+  void erase(std::uint32_t v, std::uint32_t f) {
+    std::uint32_t* first = slots_.data() + offset_[v];
+    std::uint32_t* last = std::remove(first, first + size_[v], f);
+    size_[v] = static_cast<std::uint32_t>(last - first);
+  }
+  void clear(std::uint32_t v) { size_[v] = 0; }
+
+ private:
+  std::vector<std::size_t> offset_;
+  std::vector<std::uint32_t> size_;
+  std::vector<std::uint32_t> slots_;
+};
+
 // The disc's triangles under half-edge collapses: vertex -> incident triangles, kept in step.
 class Collapser {
  public:
+  struct Worst {       // shape qualities (see quality())
+    double uv = 0;     // in the start map
+    double space = 0;  // in 3D
+  };
+
   Collapser(const DiscPatch& patch, const std::vector<Vec2>& uv, const CoarsenOptions& options)
       : patch_(patch),
         uv_(uv),
         options_(options),
         tris_(patch.triangles),
         tri_alive_(tris_.size(), 1),
-        faces_of_(patch.num_vertices()),
+        faces_of_(tris_, patch.num_vertices(), options.max_valence),
         boundary_(patch.num_vertices(), 0),
         alive_(patch.num_vertices(), 1),
         parent_(patch.num_vertices(), kNone),
         seen_(patch.num_vertices(), 0),
         locked_(patch.num_vertices(), 0),
         alive_count_(patch.num_vertices()) {
-    for (std::uint32_t f = 0; f < tris_.size(); ++f) {
-      for (std::uint32_t v : tris_[f]) faces_of_[v].push_back(f);
-    }
     for (std::uint32_t v : patch.boundary) boundary_[v] = 1;
     log_scale_ = vertex_log_scales(patch, uv);
+    shape_.resize(tris_.size());
+    for (std::size_t f = 0; f < tris_.size(); ++f) {
+      const Triangle& t = tris_[f];
+      shape_[f] = {quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]),
+                   quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]])};
+    }
   }
 
   // One round, a matching: every interior vertex not yet paired this round collapses onto its
@@ -110,8 +153,9 @@ class Collapser {
         const double db = (patch_.positions[b] - p).squaredNorm();
         return da != db ? da < db : a < b;
       });
+      const Worst worst = worst_of_star(v);
       for (std::uint32_t w : ring) {
-        if (locked_[w] == round_ || !collapse(v, w)) continue;
+        if (locked_[w] == round_ || !collapse(v, w, worst)) continue;
         locked_[w] = round_;  // w has its partner for this round
         ++collapses;
         --alive_count_;
@@ -189,7 +233,7 @@ class Collapser {
   }
 
   // Moves interior vertex v onto its neighbour w, when the checks pass.
-  bool collapse(std::uint32_t v, std::uint32_t w) {
+  bool collapse(std::uint32_t v, std::uint32_t w, const Worst& worst) {
     std::uint32_t shared[2] = {kNone, kNone};
     int count = 0;
     for (std::uint32_t f : faces_of_[v]) {
@@ -225,47 +269,64 @@ class Collapser {
       }
     }
     if (valence_w + valence_v - 4 > options_.max_valence) return false;
-    if (!shapes_hold(v, w, shared)) return false;
+    if (!shapes_hold(v, w, shared, worst)) return false;
     for (std::uint32_t s : shared) {
       tri_alive_[s] = 0;
-      for (std::uint32_t u : {w, x, y}) std::erase(faces_of_[u], s);
+      for (std::uint32_t u : {w, x, y}) faces_of_.erase(u, s);
     }
     for (std::uint32_t f : faces_of_[v]) {
       if (f == shared[0] || f == shared[1]) continue;
       for (std::uint32_t& u : tris_[f]) {
         if (u == v) u = w;
       }
-      faces_of_[w].push_back(f);
+      faces_of_.push(w, f);
     }
-    faces_of_[v].clear();
+    for (const auto& [f, shape] : pending_) shape_[f] = shape;
+    faces_of_.clear(v);
     alive_[v] = 0;
     parent_[v] = w;
     return true;
   }
 
   // Every triangle of v's star that survives the collapse stays positively oriented in the
-  // start map and no worse shaped (there and in 3D) than the bound or the star's worst.
-  bool shapes_hold(std::uint32_t v, std::uint32_t w, const std::uint32_t (&shared)[2]) const {
-    double worst_uv = options_.min_quality;
-    double worst_3d = options_.min_quality;
-    for (std::uint32_t f : faces_of_[v]) {
-      const Triangle& t = tris_[f];
-      worst_uv = std::min(worst_uv, quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]));
-      worst_3d = std::min(worst_3d, quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]]));
-    }
-    for (std::uint32_t f : faces_of_[v]) {
-      if (f == shared[0] || f == shared[1]) continue;
+  // start map, joins vertices of similar scale, and is no worse shaped (there and in 3D) than
+  // `worst`.
+  // The new triangles' shapes go to pending_ (kept when the collapse is made).
+  bool shapes_hold(std::uint32_t v, std::uint32_t w, const std::uint32_t (&shared)[2], const Worst& worst) {
+    auto moved = [&](std::uint32_t f) {
       Triangle t = tris_[f];
       for (std::uint32_t& u : t) {
         if (u == v) u = w;
       }
+      return t;
+    };
+    // The cheap tests first: orientation and scale range, then the shapes.
+    for (std::uint32_t f : faces_of_[v]) {
+      if (f == shared[0] || f == shared[1]) continue;
+      const Triangle t = moved(f);
       const auto [lo, hi] = std::minmax({log_scale_[t[0]], log_scale_[t[1]], log_scale_[t[2]]});
-      if (hi - lo > max_log_scale_range_) return false;
+      if (hi - lo > max_log_scale_range_ || !(cross(uv_[t[0]], uv_[t[1]], uv_[t[2]]) > 0)) return false;
+    }
+    pending_.clear();
+    for (std::uint32_t f : faces_of_[v]) {
+      if (f == shared[0] || f == shared[1]) continue;
+      const Triangle t = moved(f);
       const double q_uv = quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]);
       const double q_3d = quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]]);
-      if (!(q_uv > 0) || !(q_3d > 0) || q_uv < worst_uv || q_3d < worst_3d) return false;
+      if (!(q_3d > 0) || q_uv < worst.uv || q_3d < worst.space) return false;
+      pending_.push_back({f, {q_uv, q_3d}});
     }
     return true;
+  }
+
+  // The bound on v's new triangles: min_quality, or the worst of v's star if that is worse.
+  Worst worst_of_star(std::uint32_t v) const {
+    Worst worst{options_.min_quality, options_.min_quality};
+    for (std::uint32_t f : faces_of_[v]) {
+      worst.uv = std::min(worst.uv, shape_[f].uv);
+      worst.space = std::min(worst.space, shape_[f].space);
+    }
+    return worst;
   }
 
   const DiscPatch& patch_;
@@ -273,7 +334,9 @@ class Collapser {
   const CoarsenOptions& options_;
   std::vector<Triangle> tris_;
   std::vector<std::uint8_t> tri_alive_;
-  std::vector<std::vector<std::uint32_t>> faces_of_;
+  StarLists faces_of_;
+  std::vector<Worst> shape_;                              // per triangle: its shape quality in the start map and in 3D
+  std::vector<std::pair<std::uint32_t, Worst>> pending_;  // a candidate collapse's new shapes
   std::vector<std::uint8_t> boundary_;
   std::vector<std::uint8_t> alive_;
   std::vector<std::uint32_t> parent_;  // a collapsed vertex -> the vertex it moved onto
