@@ -192,15 +192,7 @@ TEST_CASE("coarsen_chart refuses a folded or mismatched start, and cancellation"
 // The disc of a CGAL mesh: a disc as it is, a closed mesh cut along its default seam.
 static DiscPatch real_chart(const std::string& name) {
   HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
-  if (compute_topology(mesh).boundary_loops.empty()) {
-    auto extrema = find_extrema(mesh);
-    REQUIRE(extrema.ok());
-    auto seam = compute_seam(mesh, *extrema, {});
-    REQUIRE(seam.ok());
-    auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
-    REQUIRE(cut.ok());
-    mesh = std::move(cut->mesh);
-  }
+  if (compute_topology(mesh).boundary_loops.empty()) mesh = fx::cut_along_seam(mesh);
   auto patches = extract_disc_patches(mesh, compute_topology(mesh));
   REQUIRE(patches.ok());
   REQUIRE(patches->size() == 1);

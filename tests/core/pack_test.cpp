@@ -2,6 +2,8 @@
 // layouts checked from the transformed UVs themselves (rectangles margin_px apart, all in
 // [0,1]^2, no overlap by the exact test and by rasterization, one texel density, coverage
 // equal to the placed area), on generated and on real flattened CGAL charts.
+#include "core/atlas/pack.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -13,7 +15,6 @@
 
 #include "atlas_test_util.h"
 #include "core/atlas/overlap.h"
-#include "core/atlas/pack.h"
 #include "core/atlas/split.h"
 #include "core/extrema/extrema.h"
 #include "core/mesh/cut.h"
@@ -22,6 +23,7 @@
 #include "core/uv/parameterize.h"
 #include "core/uv/uv_patch.h"
 #include "test_data.h"
+#include "uv_fixture.h"
 
 using namespace seam::core;
 
@@ -350,13 +352,7 @@ TEST_CASE("real flattened CGAL charts packed together: no UV point covered twice
     const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
     HalfedgeMesh disc = mesh;
     if (compute_topology(mesh).components.size() != 1 || !check_is_disc(mesh).ok()) {
-      auto extrema = find_extrema(mesh);
-      REQUIRE(extrema.ok());
-      auto seam = compute_seam(mesh, *extrema, {});
-      REQUIRE(seam.ok());
-      auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
-      REQUIRE(cut.ok());
-      disc = cut->mesh;
+      disc = seam::fixtures::cut_along_seam(mesh);
     }
     auto uv = parameterize(disc);
     REQUIRE(uv.ok());

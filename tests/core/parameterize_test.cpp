@@ -1,5 +1,7 @@
 // Parameterization: known maps on fixtures (flat disc, open cylinder, hemisphere), packing
 // of several charts, float32 safety, error codes, and flip-free maps of real CGAL discs.
+#include "core/uv/parameterize.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -9,16 +11,16 @@
 
 #include "atlas_test_util.h"
 #include "core/atlas/overlap.h"
-#include "core/mesh/cut.h"
-#include "core/seam/cut_graph.h"
-#include "core/uv/distortion.h"
 #include "core/extrema/extrema.h"
+#include "core/mesh/cut.h"
 #include "core/mesh/halfedge_mesh.h"
-#include "core/uv/parameterize.h"
-#include "core/seam/seam.h"
 #include "core/mesh/topology.h"
+#include "core/seam/cut_graph.h"
+#include "core/seam/seam.h"
+#include "core/uv/distortion.h"
 #include "fixtures.h"
 #include "test_data.h"
+#include "uv_fixture.h"
 
 using namespace seam::core;
 using seam::fixtures::Soup;
@@ -349,21 +351,14 @@ TEST_CASE("protrusion meshes cut by the skeleton seam: the default map meets the
   // hand is a fist (2 protrusions), so its chart is nearly a slit sphere, the hardest case.
   for (const std::string name : {"camel", "hand", "dino", "elephant"}) {
   CAPTURE(name);
-  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
-  auto extrema = find_extrema(mesh);
-  REQUIRE(extrema.ok());
-  REQUIRE(extrema->size() >= 2);
-  auto seam = compute_seam(mesh, *extrema, {.method = SeamMethod::kSkeleton});
-  REQUIRE(seam.ok());
-  auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
-  REQUIRE(cut.ok());
-  REQUIRE(check_is_disc(cut->mesh).ok());
-  auto lscm = parameterize(cut->mesh, {.method = UvMethod::kLscm});
-  auto best = parameterize(cut->mesh);
+  const HalfedgeMesh cut = seam::fixtures::cut_along_seam(seam::test_data::load_cgal_halfedge(name));
+  REQUIRE(check_is_disc(cut).ok());
+  auto lscm = parameterize(cut, {.method = UvMethod::kLscm});
+  auto best = parameterize(cut);
   REQUIRE(lscm.ok());
   REQUIRE(best.ok());
   check_in_unit_square(*best);
-  CHECK(best->uv.size() == cut->mesh.num_vertices());
+  CHECK(best->uv.size() == cut.num_vertices());
   CHECK(best->distortion.flipped == 0);
   CHECK(best->distortion.area_geometric <= 1.7);
   // Far lower area distortion than LSCM on the same cut.

@@ -260,14 +260,8 @@ TEST_CASE("a chart whose boundary keeps touching itself stops within the step bu
   // it, not re-factored), the budget is the Tutte start's, not extended, and the window of
   // contact-limited gains ends the descent before it; the map stays injective and its energy
   // near the fold-free (overlapping) optimum's.
-  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("elephant");
-  auto extrema = find_extrema(mesh);
-  REQUIRE(extrema.ok());
-  auto seam = compute_seam(mesh, *extrema, {.method = SeamMethod::kMst});
-  REQUIRE(seam.ok());
-  auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
-  REQUIRE(cut.ok());
-  auto patches = extract_disc_patches(cut->mesh, compute_topology(cut->mesh));
+  const HalfedgeMesh cut = fx::cut_along_seam(seam::test_data::load_cgal_halfedge("elephant"), SeamMethod::kMst);
+  auto patches = extract_disc_patches(cut, compute_topology(cut));
   REQUIRE(patches.ok());
   REQUIRE(patches->size() == 1);
   const DiscPatch& patch = patches->front();

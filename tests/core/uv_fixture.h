@@ -10,7 +10,10 @@
 #include <cmath>
 #include <vector>
 
+#include "core/extrema/extrema.h"
+#include "core/mesh/cut.h"
 #include "core/mesh/topology.h"
+#include "core/seam/seam.h"
 #include "core/uv/uv_patch.h"
 #include "fixture_mesh.h"
 
@@ -23,6 +26,20 @@ inline core::DiscPatch patch_of(const Soup& soup) {
   REQUIRE(patches.ok());
   REQUIRE(patches->size() == 1);
   return std::move(patches->front());
+}
+
+/// `mesh` cut open along its seam by `method` through its automatic extrema, failing the test
+/// if a step fails.
+inline core::HalfedgeMesh cut_along_seam(const core::HalfedgeMesh& mesh,
+                                         core::SeamMethod method = core::SeamMethod::kSkeleton) {
+  auto extrema = core::find_extrema(mesh);
+  REQUIRE(extrema.ok());
+  REQUIRE(extrema->size() >= 2);
+  auto seam = core::compute_seam(mesh, *extrema, {.method = method});
+  REQUIRE(seam.ok());
+  auto cut = core::cut_along_edges(mesh, core::all_cut_edges(*seam));
+  REQUIRE(cut.ok());
+  return std::move(cut->mesh);
 }
 
 /// The unit disc fixture lifted onto the paraboloid z = height (1 - x^2 - y^2): a curved cap
