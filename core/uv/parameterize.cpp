@@ -121,8 +121,8 @@ Vec2 pack_charts(std::vector<Chart>& charts, double gap_fraction) {
 // The two-level path's coarse chart has about 1/kCoarsening of the vertices, and at least
 // kCoarseMinVertices. Measured (flatten_bench, area_g two-level against SLIM on the whole
 // chart): lion-head at 1.07M faces 1/16 1.937 against 1.864, 1/8 1.740; at 267k faces 1/8
-// (16.7k vertices) 1.969 against 1.840, 30k vertices 1.710; camel, dino, elephant at
-// 312k-501k faces with 1/8 within +0.6%.
+// (16.7k vertices) 1.969 against 1.840, 30k vertices 1.710; camel, elephant, dino at
+// 313k-501k faces -0.2% to +0.9%.
 constexpr std::size_t kCoarsening = 8;
 constexpr std::size_t kCoarseMinVertices = 30000;
 
