@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <span>
 #include <string>
 
@@ -335,7 +334,7 @@ class Collapser {
   std::vector<Triangle> tris_;
   std::vector<std::uint8_t> tri_alive_;
   StarLists faces_of_;
-  std::vector<Worst> shape_;                              // per triangle: its shape quality in the start map and in 3D
+  std::vector<Worst> shape_;  // per triangle: its shape qualities in the start map and in 3D
   std::vector<std::pair<std::uint32_t, Worst>> pending_;  // a candidate collapse's new shapes
   std::vector<std::uint8_t> boundary_;
   std::vector<std::uint8_t> alive_;
@@ -349,76 +348,24 @@ class Collapser {
   std::size_t alive_count_;
 };
 
-// The coarse triangles bucketed by their bounding boxes in the start map.
-class TriangleGrid {
- public:
-  TriangleGrid(const std::vector<Triangle>& tris, const std::vector<Vec2>& uv) : tris_(tris), uv_(uv) {
-    lo_ = uv.front();
-    Vec2 hi = uv.front();
-    for (const Vec2& p : uv) {
-      lo_ = lo_.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    const Vec2 size = (hi - lo_).cwiseMax(1e-300);
-    const double cell = std::sqrt(size.x() * size.y() / static_cast<double>(std::max<std::size_t>(1, tris.size())));
-    nx_ = static_cast<std::size_t>(std::clamp(std::ceil(size.x() / cell), 1.0, 4096.0));
-    ny_ = static_cast<std::size_t>(std::clamp(std::ceil(size.y() / cell), 1.0, 4096.0));
-    scale_ = Vec2(static_cast<double>(nx_) / size.x(), static_cast<double>(ny_) / size.y());
-    start_.assign(nx_ * ny_ + 1, 0);
-    for_each_cell([&](std::size_t, std::size_t c) { ++start_[c + 1]; });
-    for (std::size_t c = 0; c < nx_ * ny_; ++c) start_[c + 1] += start_[c];
-    items_.resize(start_.back());
-    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
-    for_each_cell([&](std::size_t t, std::size_t c) { items_[fill[c]++] = static_cast<std::uint32_t>(t); });
-  }
-
-  // The triangle that holds p best (largest smallest barycentric coordinate), and those
-  // coordinates clamped to the triangle.
-  std::pair<std::uint32_t, Vec3> locate(const Vec2& p) const {
-    const std::size_t c = cell_y(p.y()) * nx_ + cell_x(p.x());
-    std::uint32_t best = kNone;
-    Vec3 best_bary = Vec3::Zero();
-    double best_score = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = start_[c]; i < start_[c + 1]; ++i) {
-      const Vec3 bary = barycentric(p, tris_[items_[i]], uv_);
-      const double score = bary.minCoeff();
-      if (score > best_score) {
-        best_score = score;
-        best = items_[i];
-        best_bary = bary;
-      }
-    }
-    return {best, clamped(best_bary)};
-  }
-
- private:
-  std::size_t cell_x(double x) const {
-    return static_cast<std::size_t>(std::clamp((x - lo_.x()) * scale_.x(), 0.0, static_cast<double>(nx_ - 1)));
-  }
-  std::size_t cell_y(double y) const {
-    return static_cast<std::size_t>(std::clamp((y - lo_.y()) * scale_.y(), 0.0, static_cast<double>(ny_ - 1)));
-  }
-  template <typename F>
-  void for_each_cell(F&& visit) const {
-    for (std::size_t t = 0; t < tris_.size(); ++t) {
-      const Triangle& tri = tris_[t];
-      const Vec2 a = uv_[tri[0]].cwiseMin(uv_[tri[1]]).cwiseMin(uv_[tri[2]]);
-      const Vec2 b = uv_[tri[0]].cwiseMax(uv_[tri[1]]).cwiseMax(uv_[tri[2]]);
-      for (std::size_t y = cell_y(a.y()); y <= cell_y(b.y()); ++y) {
-        for (std::size_t x = cell_x(a.x()); x <= cell_x(b.x()); ++x) visit(t, y * nx_ + x);
-      }
+// The triangle of `tris` that holds p best (largest smallest barycentric coordinate), by a
+// scan of them all, and those coordinates clamped to it: for a walk that did not arrive (none
+// did in the benchmarks), so its O(T) cost stays rare.
+std::pair<std::uint32_t, Vec3> locate_anywhere(const std::vector<Triangle>& tris, const std::vector<Vec2>& uv,
+                                               const Vec2& p) {
+  std::uint32_t best = kNone;
+  Vec3 best_bary = Vec3::Zero();
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (std::uint32_t t = 0; t < tris.size(); ++t) {
+    const Vec3 bary = barycentric(p, tris[t], uv);
+    if (bary.minCoeff() > best_score) {
+      best_score = bary.minCoeff();
+      best = t;
+      best_bary = bary;
     }
   }
-
-  const std::vector<Triangle>& tris_;
-  const std::vector<Vec2>& uv_;
-  Vec2 lo_;
-  Vec2 scale_;
-  std::size_t nx_ = 1;
-  std::size_t ny_ = 1;
-  std::vector<std::size_t> start_;
-  std::vector<std::uint32_t> items_;
-};
+  return {best, clamped(best_bary)};
+}
 
 Status check_start(const DiscPatch& patch, const std::vector<Vec2>& uv) {
   if (uv.size() != patch.num_vertices()) {
@@ -474,7 +421,6 @@ Result<CoarseChart> coarsen_chart(const DiscPatch& patch, const std::vector<Vec2
   CoarseChart coarse = compact(patch, uv, collapser, coarse_of, coarse_tri);
   coarse.host.resize(patch.num_vertices());
   coarse.barycentric.resize(patch.num_vertices());
-  std::optional<TriangleGrid> grid;  // for a walk that did not arrive (none seen so far)
   std::uint32_t poll = 0;
   for (std::uint32_t v = 0; v < patch.num_vertices(); ++v) {
     if (cancel.poll(poll)) return cancelled_error("coarsening a chart");
@@ -494,8 +440,7 @@ Result<CoarseChart> coarsen_chart(const DiscPatch& patch, const std::vector<Vec2
       coarse.barycentric[v] = clamped(at.barycentric);
       continue;
     }
-    if (!grid) grid.emplace(coarse.patch.triangles, coarse.start);
-    const auto [t, bary] = grid->locate(uv[v]);
+    const auto [t, bary] = locate_anywhere(coarse.patch.triangles, coarse.start, uv[v]);
     if (t == kNone) return make_error(ErrorCode::kSolverFailed, "coarsen_chart: a vertex lies in no coarse triangle");
     coarse.host[v] = t;
     coarse.barycentric[v] = bary;
