@@ -128,20 +128,22 @@ constexpr std::size_t kCoarseMinVertices = 30000;
 
 // SLIM on a coarse copy of a large chart (multilevel.h): BFF's start, coarsened in its own
 // plane, optimised there, and carried back. Empty when the fine map would fold or overlap
-// itself (then the caller runs SLIM on the chart itself).
+// itself, or the coarse chart failed other than by cancellation (then the caller runs SLIM on
+// the chart itself).
 Result<std::optional<std::vector<Vec2>>> flatten_two_level(const DiscPatch& patch, const UvOptions& options,
                                                            UvResult& result, const CancelToken& cancel) {
   SEAM_TRY(std::vector<Vec2> start, flatten_bff(patch, cancel));
   if (repair_flips(patch, start) > 0) return std::optional<std::vector<Vec2>>();
   const std::size_t coarse = std::max(patch.num_vertices() / kCoarsening, kCoarseMinVertices);
-  SEAM_TRY(TwoLevelResult two_level,
-           slim_two_level(
-               patch, start, coarse,
-               {.iterations = options.slim_iterations, .proxy = options.slim_proxy, .injective = options.injective},
-               cancel));
-  if (two_level.uv.empty()) return std::optional<std::vector<Vec2>>();
-  if (two_level.coarse.overlapping_start) ++result.overlapping_starts;
-  return std::optional<std::vector<Vec2>>(std::move(two_level.uv));
+  auto two_level = slim_two_level(
+      patch, start, coarse,
+      {.iterations = options.slim_iterations, .proxy = options.slim_proxy, .injective = options.injective}, cancel);
+  // Cancellation ends the request; any other failure on the coarse chart leaves the chart to
+  // SLIM on the whole chart, which reports its own errors.
+  if (!two_level.ok() && two_level.error().code == ErrorCode::kCancelled) return two_level.take_error();
+  if (!two_level.ok() || two_level->uv.empty()) return std::optional<std::vector<Vec2>>();
+  if (two_level->coarse.overlapping_start) ++result.overlapping_starts;
+  return std::optional<std::vector<Vec2>>(std::move(two_level->uv));
 }
 
 // Flattens one chart by options.method. Records in `result` an ARAP chart that fell back to
