@@ -52,14 +52,16 @@ struct CoarsenOptions {
   double max_scale_ratio = 2.0;
 };
 
-/// Coarsens `patch` by half-edge collapses of interior vertices onto their neighbours (shortest
-/// 3D edge first, independent sets of collapses per round), each kept only when it keeps the
-/// mesh a manifold disc (the link condition) and every new triangle positively oriented in
-/// `uv` within the quality bound. Then locates every fine vertex in the coarse triangles.
+/// Coarsens `patch` by half-edge collapses of interior vertices onto their neighbours (nearest
+/// in 3D first, in matching rounds: a vertex absorbs at most one neighbour per round), each
+/// kept only when it keeps the mesh a manifold disc (the link condition) and every new triangle
+/// positively oriented in `uv` within the shape, valence and scale bounds. Then locates every
+/// fine vertex in the coarse triangles by a walk from the vertex it was collapsed onto (a scan
+/// of all coarse triangles where a walk does not arrive within 256 steps).
 /// Errors: kInvalidArgument (`uv` not one point per vertex, a triangle of `uv` not positively
-/// oriented, or a vertex on no triangle), kSolverFailed (a vertex in no coarse triangle, which
-/// a valid start rules out), kCancelled. O((V + F) x rounds) plus O(V) for the location.
-/// Deterministic.
+/// oriented, or a vertex on no triangle), kSolverFailed (no coarse triangle to hold a vertex,
+/// which a valid start rules out), kCancelled. O((V + F) x rounds) plus O(V x walk length)
+/// for the location. Deterministic.
 Result<CoarseChart> coarsen_chart(const DiscPatch& patch, const std::vector<Vec2>& uv, const CoarsenOptions& options,
                                   const CancelToken& cancel = CancelToken::none());
 
