@@ -76,6 +76,14 @@ const std::vector<HalfedgeId>& TerminalPaths::path_between(std::size_t i, std::s
   return path_[at];
 }
 
+double TerminalPaths::lower_bound(std::size_t i, std::size_t j) const {
+  const double known = distance_[i * size() + j];
+  if (!std::isnan(known)) return known;
+  if (!astar_) return 0.0;
+  const auto positions = mesh_->positions();
+  return (positions[terminals[i].index()] - positions[terminals[j].index()]).norm() * (1.0 - 1e-12);
+}
+
 void TerminalPaths::set(std::size_t i, std::size_t j, double d, std::vector<HalfedgeId> path) const {
   const std::size_t k = size();
   distance_[j * k + i] = d;

@@ -44,6 +44,10 @@ class TerminalPaths {
   double dist(std::size_t i, std::size_t j) const;
   /// Half-edges of a shortest path from terminal i to j (path j->i is its reverse).
   const std::vector<HalfedgeId>& path_between(std::size_t i, std::size_t j) const;
+  /// A lower bound on dist(i, j) that runs no search: the distance when it is known, else
+  /// (on-demand tables with Euclidean weights) the straight-line distance less a relative
+  /// 1e-12 for rounding, else 0.
+  double lower_bound(std::size_t i, std::size_t j) const;
   /// Pair searches run on demand so far (0 for a complete table).
   std::size_t searches() const { return searches_; }
 

