@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -29,14 +30,15 @@ class LazyHeap {
 
   bool empty() const { return heap_.empty(); }
   void clear() { heap_.clear(); }
+  /// `key` >= 0 (distances, A* keys).
   void push(double key, std::uint32_t v) {
-    heap_.emplace_back(key, v);
+    heap_.push_back(pack(key, v));
     sift_up(heap_.size() - 1, heap_.back());
   }
-  const Entry& top() const { return heap_.front(); }
+  Entry top() const { return unpack(heap_.front()); }
   Entry pop() {
-    const Entry top = heap_.front();
-    const Entry last = heap_.back();
+    const Packed top = heap_.front();
+    const Packed last = heap_.back();
     heap_.pop_back();
     if (!heap_.empty()) {
       // The hole at the root sinks to a leaf along the least children, then the last entry
@@ -55,21 +57,35 @@ class LazyHeap {
       }
       sift_up(hole, last);
     }
-    return top;
+    return unpack(top);
   }
-  /// Adds `delta(v)` to every key and restores the heap order (A* re-keying of sources).
+  /// Adds `delta(v)` (>= -key) to every key and restores the heap order (A* re-keying of
+  /// sources).
   template <class Delta>
   void rekey(Delta&& delta) {
-    for (auto& entry : heap_) entry.first += delta(entry.second);
+    for (auto& entry : heap_) {
+      const auto [key, v] = unpack(entry);
+      entry = pack(key + delta(v), v);
+    }
     // Heap order by insertion, in place: entries [0, i) are a heap when entry i rises.
     for (std::size_t i = 1; i < heap_.size(); ++i) sift_up(i, heap_[i]);
   }
 
  private:
   static constexpr std::size_t kArity = 4;
+  // (key, vertex) as one 128-bit integer: the bits of a non-negative double order as the
+  // double does, so one unsigned comparison orders by key, then vertex (the order of
+  // Entry's operator<, without its branches). + 0.0 turns a -0.0 key into +0.0.
+  __extension__ typedef unsigned __int128 Packed;
+  static Packed pack(double key, std::uint32_t v) {
+    return (Packed{std::bit_cast<std::uint64_t>(key + 0.0)} << 32) | v;
+  }
+  static Entry unpack(Packed p) {
+    return {std::bit_cast<double>(static_cast<std::uint64_t>(p >> 32)), static_cast<std::uint32_t>(p)};
+  }
 
   // Places `entry` at hole i or above it.
-  void sift_up(std::size_t i, Entry entry) {
+  void sift_up(std::size_t i, Packed entry) {
     while (i > 0) {
       const std::size_t parent = (i - 1) / kArity;
       if (!(entry < heap_[parent])) break;
@@ -79,7 +95,7 @@ class LazyHeap {
     heap_[i] = entry;
   }
 
-  std::vector<Entry> heap_;
+  std::vector<Packed> heap_;
 };
 
 /// A sorted list of seed entries streamed in order alongside a LazyHeap of improvements:

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -22,42 +23,47 @@ class IndexedHeap {
   /// The key the heap orders v by (the caller's distance array).
   double key(std::uint32_t v) const { return key_[v]; }
 
+  /// Inserts v, or moves it up after its key decreased. Keys are >= 0 (distances).
   void push_or_decrease(std::uint32_t v) {
     std::uint32_t i = position_[v];
     if (i == kNone) {
       i = static_cast<std::uint32_t>(heap_.size());
-      heap_.push_back(v);
+      heap_.emplace_back();
     }
-    sift_up(i, v);
+    sift_up(i, pack(v));
   }
 
   std::uint32_t pop() {
-    const std::uint32_t top = heap_[0];
+    const std::uint32_t top = vertex(heap_[0]);
     position_[top] = kNone;
-    const std::uint32_t last = heap_.back();
+    const Packed last = heap_.back();
     heap_.pop_back();
     if (!heap_.empty()) sift_down(0, last);
     return top;
   }
 
  private:
-  bool less(std::uint32_t a, std::uint32_t b) const {
-    return key_[a] < key_[b] || (key_[a] == key_[b] && a < b);
+  // Each entry carries its key: (key, vertex) as one 128-bit integer, whose unsigned order
+  // is the order by key, then index (the bits of a non-negative double order as the double
+  // does; + 0.0 turns -0.0 into +0.0), so comparisons read no distance array.
+  __extension__ typedef unsigned __int128 Packed;
+  Packed pack(std::uint32_t v) const { return (Packed{std::bit_cast<std::uint64_t>(key_[v] + 0.0)} << 32) | v; }
+  static std::uint32_t vertex(Packed p) { return static_cast<std::uint32_t>(p); }
+
+  void place(std::uint32_t i, Packed entry) {
+    heap_[i] = entry;
+    position_[vertex(entry)] = i;
   }
-  void place(std::uint32_t i, std::uint32_t v) {
-    heap_[i] = v;
-    position_[v] = i;
-  }
-  void sift_up(std::uint32_t i, std::uint32_t v) {
+  void sift_up(std::uint32_t i, Packed entry) {
     while (i > 0) {
       const std::uint32_t parent = (i - 1) / 4;
-      if (!less(v, heap_[parent])) break;
+      if (!(entry < heap_[parent])) break;
       place(i, heap_[parent]);
       i = parent;
     }
-    place(i, v);
+    place(i, entry);
   }
-  void sift_down(std::uint32_t i, std::uint32_t v) {
+  void sift_down(std::uint32_t i, Packed entry) {
     const auto n = static_cast<std::uint32_t>(heap_.size());
     while (true) {
       const std::uint32_t first = 4 * i + 1;
@@ -65,18 +71,18 @@ class IndexedHeap {
       std::uint32_t best = first;
       const std::uint32_t end = std::min(first + 4, n);
       for (std::uint32_t c = first + 1; c < end; ++c) {
-        if (less(heap_[c], heap_[best])) best = c;
+        if (heap_[c] < heap_[best]) best = c;
       }
-      if (!less(heap_[best], v)) break;
+      if (!(heap_[best] < entry)) break;
       place(i, heap_[best]);
       i = best;
     }
-    place(i, v);
+    place(i, entry);
   }
 
   const std::vector<double>& key_;
   std::vector<std::uint32_t> position_;
-  std::vector<std::uint32_t> heap_;
+  std::vector<Packed> heap_;
 };
 
 }  // namespace seam::core
