@@ -175,19 +175,31 @@ Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const E
                                                bool euclidean) {
   if (auto st = validate_terminals(mesh, terminals); !st.ok()) return st.take_error();
   const std::size_t k = terminals.size();
-  SEAM_TRY(ShortestPathTree voronoi, dijkstra(graph, terminals, {}, cancel));
+  // One search from all terminals (the workspace the pair searches reuse afterwards); each
+  // vertex's region is its nearest terminal, carried down the search tree in settle order.
+  auto search = std::make_shared<PathSearch>(graph);
+  search->reset();
+  for (VertexId t : terminals) search->add_source(t);
+  if (auto st = search->run({}, PathSearch::kUnreached, cancel); !st.ok()) return st.take_error();
+  constexpr std::uint32_t kNoRegion = VertexId::kInvalidValue;
+  std::vector<std::uint32_t> region(graph.num_vertices(), kNoRegion);
+  for (std::uint32_t i = 0; i < k; ++i) region[terminals[i].index()] = i;
+  for (VertexId v : search->settled()) {
+    if (const HalfedgeId p = search->parent(v); p.valid()) region[v.index()] = region[mesh.tail(p).index()];
+  }
   // Per terminal pair, the cheapest edge between their regions (first in vertex and slot
   // order on ties, so the result is deterministic).
   std::vector<Candidate> best(k * k, Candidate{ShortestPathTree::kUnreached, 0, 0});
   std::vector<std::uint32_t> best_slot(k * k, 0);
   for (std::uint32_t u = 0; u < graph.num_vertices(); ++u) {
-    const std::uint32_t su = voronoi.source[u];
-    if (su == VertexId::kInvalidValue) continue;
+    const std::uint32_t su = region[u];
+    if (su == kNoRegion) continue;
+    const double du = search->distance(VertexId(u));
     for (std::uint32_t slot = graph.offsets[u]; slot < graph.offsets[u + 1]; ++slot) {
       const std::uint32_t v = graph.head[slot].value();
-      const std::uint32_t sv = voronoi.source[v];
-      if (sv == VertexId::kInvalidValue || su >= sv) continue;  // each crossing once, from the lower region
-      const double d = voronoi.distance[u] + graph.weight[slot] + voronoi.distance[v];
+      const std::uint32_t sv = region[v];
+      if (sv == kNoRegion || su >= sv) continue;  // each crossing once, from the lower region
+      const double d = du + graph.weight[slot] + search->distance(VertexId(v));
       Candidate& c = best[su * k + sv];
       if (d < c.d) c = {d, su, sv}, best_slot[su * k + sv] = slot;
     }
@@ -206,15 +218,14 @@ Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const E
   // v back to source j.
   for (const auto& [i, j] : result.mst) {
     const std::uint32_t slot = best_slot[i * k + j];
-    std::vector<HalfedgeId> path = trace_path(mesh, voronoi, mesh.tail(graph.halfedge[slot]));
+    std::vector<HalfedgeId> path = search->path_to(mesh, mesh.tail(graph.halfedge[slot]));
     path.push_back(graph.halfedge[slot]);
-    const std::vector<HalfedgeId> tail = trace_path(mesh, voronoi, graph.head[slot]);
-    const std::vector<HalfedgeId> back = reversed(tail);
+    const std::vector<HalfedgeId> back = reversed(search->path_to(mesh, graph.head[slot]));
     path.insert(path.end(), back.begin(), back.end());
     result.set(i, j, best[i * k + j].d, std::move(path));
   }
   result.mesh_ = &mesh;
-  result.search_ = std::make_shared<PathSearch>(graph);
+  result.search_ = std::move(search);
   result.astar_ = euclidean;
   return result;
 }
