@@ -29,8 +29,7 @@ void PathSearch::clear_marks() {
   marked_.clear();
 }
 
-void PathSearch::touch(std::uint32_t v) {
-  if (stamp_[v] == generation_) return;
+void PathSearch::first_touch(std::uint32_t v) {
   stamp_[v] = generation_;
   dist_[v] = kUnreached;
   parent_[v] = HalfedgeId();

@@ -87,7 +87,12 @@ class PathSearch {
   static constexpr std::uint8_t kBlocked = 1;
   static constexpr std::uint8_t kForbidden = 2;
 
-  void touch(std::uint32_t v);
+  // Gives v this search's defaults the first time the search meets it: the check inline
+  // (every relaxation makes it), the reset out of line.
+  void touch(std::uint32_t v) {
+    if (stamp_[v] != generation_) first_touch(v);
+  }
+  void first_touch(std::uint32_t v);
   // The visitor of run_dijkstra (dijkstra_kernel.h): `OnSettle` decides for a popped entry,
   // `Key(w, nd)` is the heap key of an improved vertex (nd, or nd plus the A* estimate).
   template <class OnSettle, class Key>
