@@ -113,10 +113,14 @@ Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distan
   return status;
 }
 
-Status PathSearch::run_astar(VertexId target, std::span<const Vec3> positions, const CancelToken& cancel) {
+Status PathSearch::run_astar(VertexId target, std::span<const Vec3> positions, std::span<const double> floor,
+                             const CancelToken& cancel) {
   // The heap holds (g + h, v); sources were pushed with h = 0, so re-key them first.
   const Vec3 goal = positions[target.index()];
-  auto estimate = [&](std::uint32_t v) { return (positions[v] - goal).norm(); };
+  auto estimate = [&](std::uint32_t v) {
+    const double line = (positions[v] - goal).norm();
+    return floor.empty() ? line : std::max(line, floor[v]);
+  };
   heap_.rekey(estimate);
   const std::uint32_t t = target.value();
   auto on_settle = [&](std::uint32_t v, double) {

@@ -49,7 +49,15 @@ class PathSearch {
   /// A* towards one target with the straight-line distance to `positions[target]` as the
   /// estimate. Valid only when every edge weighs at least its Euclidean length (the default
   /// weights); distances and paths are then exactly Dijkstra's. Errors: kCancelled.
-  Status run_astar(VertexId target, std::span<const Vec3> positions, const CancelToken& cancel = CancelToken::none());
+  Status run_astar(VertexId target, std::span<const Vec3> positions, const CancelToken& cancel = CancelToken::none()) {
+    return run_astar(target, positions, {}, cancel);
+  }
+  /// The same with the estimate max(straight line, floor[v]): `floor` (empty: none) must be
+  /// a lower bound on every vertex's distance to the target that no edge's weight undercuts
+  /// (floor[u] <= weight(u, v) + floor[v]), e.g. the distance to the nearest of a set of
+  /// vertices that holds the target.
+  Status run_astar(VertexId target, std::span<const Vec3> positions, std::span<const double> floor,
+                   const CancelToken& cancel = CancelToken::none());
   /// Like run() without targets, but also stops once `max_settled` vertices are settled.
   Status run_limited(double max_distance, std::size_t max_settled, const CancelToken& cancel = CancelToken::none()) {
     max_settled_ = max_settled;

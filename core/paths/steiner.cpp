@@ -100,7 +100,7 @@ void TerminalPaths::search_pair(std::size_t i, std::size_t j) const {
   const VertexId target[] = {terminals[j]};
   // No cancel token: neither can fail. A* settles vertices with their exact distances too.
   if (astar_) {
-    (void)search_->run_astar(terminals[j], mesh_->positions());
+    (void)search_->run_astar(terminals[j], mesh_->positions(), nearest_);
   } else {
     (void)search_->run(target);
   }
@@ -225,6 +225,10 @@ Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const E
     result.set(i, j, best[i * k + j].d, std::move(path));
   }
   result.mesh_ = &mesh;
+  if (euclidean) {
+    result.nearest_.assign(graph.num_vertices(), 0.0);
+    for (VertexId v : search->settled()) result.nearest_[v.index()] = search->distance(v);
+  }
   result.search_ = std::move(search);
   result.astar_ = euclidean;
   return result;

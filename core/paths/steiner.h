@@ -66,6 +66,7 @@ class TerminalPaths {
   const HalfedgeMesh* mesh_ = nullptr;     // set only on demand
   std::shared_ptr<PathSearch> search_;     // set only on demand
   bool astar_ = false;                     // pair searches may use A* (Euclidean lower bounds)
+  std::vector<double> nearest_;            // on demand: each vertex's distance to its nearest terminal
 };
 
 /// Runs one early-exit Dijkstra per terminal but the last, each stopping once the later
