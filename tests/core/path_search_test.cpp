@@ -267,3 +267,46 @@ TEST_CASE("LazyHeap pops in (key, vertex) order under interleaved pushes, pops, 
   CHECK(heap.empty());
   CHECK(popped > 1000);
 }
+
+TEST_CASE("run_astar reaches its target at the Bellman–Ford distance, and a nearest-terminal floor settles less") {
+  const HalfedgeMesh mesh = torus_mesh();
+  const EdgeGraph graph = build_edge_graph(mesh);
+  const std::vector<std::uint8_t> none(mesh.num_vertices(), 0);
+  PathSearch search(graph);
+  std::mt19937 rng(11);
+  std::size_t with_floor = 0, without = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    CAPTURE(trial);
+    // A source, a target and four more "terminals": the floor is the distance to the nearest
+    // of the target and those four (it holds the target, so it bounds the distance to it).
+    std::vector<VertexId> picks;
+    while (picks.size() < 6) {
+      const VertexId v(static_cast<std::uint32_t>(rng() % mesh.num_vertices()));
+      if (std::find(picks.begin(), picks.end(), v) == picks.end()) picks.push_back(v);
+    }
+    const VertexId source = picks[0], target = picks[1];
+    const std::vector<VertexId> others(picks.begin() + 1, picks.end());
+    const std::vector<double> floor = bellman_ford(graph, others, none, none);
+    const double expected = bellman_ford(graph, {source}, none, none)[target.index()];
+    std::size_t settled[2] = {0, 0};
+    for (int use_floor = 0; use_floor < 2; ++use_floor) {
+      search.reset();
+      search.add_source(source);
+      REQUIRE(search
+                  .run_astar(target, mesh.positions(),
+                             use_floor ? std::span<const double>(floor) : std::span<const double>())
+                  .ok());
+      REQUIRE(search.reached(target));
+      CHECK(search.distance(target) == doctest::Approx(expected).epsilon(1e-12));
+      CHECK(path_length(mesh, search.path_to(mesh, target)) == doctest::Approx(expected).epsilon(1e-12));
+      // Every settled vertex has its exact distance (a consistent estimate).
+      const auto exact = bellman_ford(graph, {source}, none, none);
+      for (VertexId v : search.settled()) CHECK(search.distance(v) == doctest::Approx(exact[v.index()]).epsilon(1e-12));
+      settled[use_floor] = search.settled().size();
+    }
+    CHECK(settled[1] <= settled[0]);
+    without += settled[0];
+    with_floor += settled[1];
+  }
+  CHECK(with_floor < without);
+}

@@ -74,6 +74,12 @@ TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of 
     CHECK(lazy->searches() == 0);  // the MST pairs come from the one multi-source search
     const double oracle = seam::test_oracle::prim_mst_weight(k, [&](std::size_t i, std::size_t j) { return full->dist(i, j); });
     CHECK(mst_weight == doctest::Approx(oracle).epsilon(1e-12));
+    // lower_bound runs no search, never exceeds the distance, and is it once it is known.
+    for (std::size_t i = 0; i < k; ++i) {
+      for (std::size_t j = 0; j < k; ++j) CHECK(lazy->lower_bound(i, j) <= full->dist(i, j));
+    }
+    CHECK(lazy->searches() == 0);
+    CHECK(lazy->lower_bound(0, 3) == lazy->dist(0, 3));
     for (std::size_t i = 0; i < k; ++i) {
       for (std::size_t j = 0; j < k; ++j) {
         CHECK(lazy->dist(i, j) == doctest::Approx(full->dist(i, j)).epsilon(1e-12));
