@@ -45,6 +45,17 @@ detail::UnionFind corner_wedges(const HalfedgeMesh& mesh, const std::vector<std:
   return wedges;
 }
 
+// The error for interior cut edge e whose ends both keep a single wedge.
+Error slit_error(const HalfedgeMesh& mesh, std::size_t e) {
+  const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
+  const auto u = mesh.tail(a).value();
+  const auto v = mesh.head(a).value();
+  return make_error(ErrorCode::kTopologyViolation,
+                    "cut edge " + std::to_string(e) + " (" + std::to_string(u) + ", " + std::to_string(v) +
+                        ") cannot open: neither end meets another cut edge or the boundary (a slit)",
+                    {static_cast<std::uint32_t>(e)});
+}
+
 // An interior cut edge both of whose ends keep a single wedge (a slit between two vertices
 // touching no other cut) would be glued shut again: a two-edge boundary loop is not a
 // simplicial mesh. Reported instead of silently leaving the edge closed.
@@ -56,12 +67,7 @@ Status check_no_slit(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& 
     if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
     if (wedges.find(a.value()) == wedges.find(mesh.next(b).value()) &&
         wedges.find(b.value()) == wedges.find(mesh.next(a).value())) {
-      const auto u = mesh.tail(a).value();
-      const auto v = mesh.head(a).value();
-      return make_error(ErrorCode::kTopologyViolation,
-                        "cut edge " + std::to_string(e) + " (" + std::to_string(u) + ", " + std::to_string(v) +
-                            ") cannot open: neither end meets another cut edge or the boundary (a slit)",
-                        {static_cast<std::uint32_t>(e)});
+      return slit_error(mesh, e);
     }
   }
   return Ok{};
@@ -171,12 +177,7 @@ Status check_cut_is_disc(const HalfedgeMesh& mesh, std::span<const EdgeId> edges
     const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
     if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
     if (single_wedge(mesh.tail(a)) && single_wedge(mesh.head(a))) {
-      const auto u = mesh.tail(a).value();
-      const auto v = mesh.head(a).value();
-      return make_error(ErrorCode::kTopologyViolation,
-                        "cut edge " + std::to_string(e) + " (" + std::to_string(u) + ", " + std::to_string(v) +
-                            ") cannot open: neither end meets another cut edge or the boundary (a slit)",
-                        {static_cast<std::uint32_t>(e)});
+      return slit_error(mesh, e);
     }
   }
   // Face components across uncut interior edges.
