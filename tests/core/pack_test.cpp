@@ -501,3 +501,66 @@ TEST_CASE("split refuses bad options and malformed charts with typed errors") {
   charts[0].triangles.push_back({0, 1, 99999});
   CHECK(split_sprawling_charts(views(charts)).error().code == ErrorCode::kIndexOutOfRange);
 }
+
+namespace {
+
+// Gift wrapping, the oracle for convex_hull: from the lowest-then-leftmost point, the next
+// vertex is the one every other point lies left of (the farthest on ties), counter-clockwise.
+std::vector<Vec2> jarvis_hull(const std::vector<Vec2>& pts) {
+  auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  const Vec2 start = *std::min_element(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) {
+    return a.y() < b.y() || (a.y() == b.y() && a.x() < b.x());
+  });
+  std::vector<Vec2> hull;
+  Vec2 at = start;
+  do {
+    hull.push_back(at);
+    Vec2 next = at;
+    for (const Vec2& q : pts) {
+      if (q == at) continue;
+      const double c = next == at ? -1.0 : cross(at, next, q);
+      if (next == at || c < 0 || (c == 0 && (q - at).squaredNorm() > (next - at).squaredNorm())) next = q;
+    }
+    at = next;
+  } while (at != start && hull.size() <= pts.size());
+  return hull;
+}
+
+}  // namespace
+
+TEST_CASE("convex_hull equals gift wrapping on clouds whose points are mostly inside (the pre-filter's case)") {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<std::vector<Vec2>> clouds;
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<Vec2> disc;
+    while (disc.size() < 3000) {
+      const Vec2 p(u(rng), u(rng));
+      if (p.squaredNorm() <= 1) disc.emplace_back(100 * p.x() + 7, 0.01 * p.y() - 3);  // thin and far from 0
+    }
+    for (int k = 0; k < 40; ++k) {  // points on the circle itself, so many are hull vertices
+      const double a = 2 * std::numbers::pi * u(rng);
+      disc.emplace_back(100 * std::cos(a) + 7, 0.01 * std::sin(a) - 3);
+    }
+    clouds.push_back(std::move(disc));
+  }
+  std::vector<Vec2> grid;  // collinear hull edges, exact ties in every coordinate
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 25; ++j) grid.emplace_back(i * 0.5, j * 0.25);
+  }
+  clouds.push_back(grid);
+  std::vector<Vec2> diamond;  // the extreme points' quadrilateral is the hull itself
+  for (int i = -20; i <= 20; ++i) {
+    for (int j = -20 + std::abs(i); j <= 20 - std::abs(i); ++j) diamond.emplace_back(i, j);
+  }
+  clouds.push_back(diamond);
+  for (std::size_t c = 0; c < clouds.size(); ++c) {
+    CAPTURE(c);
+    const std::vector<Vec2> hull = convex_hull(clouds[c]);
+    const std::vector<Vec2> oracle = jarvis_hull(clouds[c]);
+    REQUIRE(hull.size() == oracle.size());
+    for (std::size_t i = 0; i < hull.size(); ++i) CHECK(hull[i] == oracle[i]);
+  }
+}
