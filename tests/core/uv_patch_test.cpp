@@ -45,6 +45,45 @@ TEST_CASE("the vertex graph is the lower triangle of the mesh's edges and the di
   CHECK(lower.nonZeros() == static_cast<Eigen::Index>(expected.size()));
 }
 
+TEST_CASE("the cotan Laplacian equals its triplet assembly bit for bit: symmetric, rows summing to zero") {
+  for (int rings : {3, 9}) {
+    CAPTURE(rings);
+    const DiscPatch patch = fx::patch_of(fx::jittered_disc(rings, 4 * rings));
+    const auto n = static_cast<Eigen::Index>(patch.num_vertices());
+    // The oracle: every triangle's corner cotangents as triplets, repeats summed by Eigen.
+    std::vector<Eigen::Triplet<double>> entries;
+    for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+      const auto& tri = patch.triangles[t];
+      const auto cot = seam::core::corner_cotans(patch, t);
+      for (int k = 0; k < 3; ++k) {
+        const auto i = static_cast<Eigen::Index>(tri[(k + 1) % 3]);
+        const auto j = static_cast<Eigen::Index>(tri[(k + 2) % 3]);
+        entries.emplace_back(i, j, -0.5 * cot[k]);
+        entries.emplace_back(j, i, -0.5 * cot[k]);
+      }
+    }
+    Eigen::SparseMatrix<double> off(n, n);
+    off.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SparseMatrix<double> laplacian = seam::core::cotan_laplacian(patch);
+    REQUIRE(laplacian.rows() == n);
+    REQUIRE(laplacian.isCompressed());
+    CHECK(laplacian.nonZeros() == off.nonZeros() + n);
+    for (Eigen::Index col = 0; col < n; ++col) {
+      double column_sum = 0.0;
+      Eigen::Index previous = -1;
+      for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it) {
+        CHECK(it.row() > previous);  // rows sorted, no repeats
+        previous = it.row();
+        if (it.row() != col) CHECK(it.value() == off.coeff(it.row(), col));
+        CHECK(it.value() == laplacian.coeff(col, it.row()));
+        column_sum += it.value();
+      }
+      CHECK(column_sum == doctest::Approx(0.0).epsilon(1e-12).scale(1.0));
+      CHECK(laplacian.coeff(col, col) == doctest::Approx(-off.col(col).sum()).epsilon(1e-12));
+    }
+  }
+}
+
 TEST_CASE("untangle unfolds a star by moving its centre into the kernel, and moves nothing else") {
   using seam::core::Vec2;
   const DiscPatch patch = fx::patch_of(fx::jittered_disc(8, 24));
