@@ -180,27 +180,23 @@ Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch) {
       for (std::uint32_t m = 0; m < 3; ++m) corners[fill[patch.triangles[t][m]]++] = 3 * t + m;
     }
   }
+  // Written into the matrix's own arrays, sized for a disc (n + 2E = n + 3F + boundary
+  // edges entries; anything else grows them).
   Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  std::vector<std::pair<std::uint32_t, double>> column;
+  auto& data = laplacian.data();
+  data.reserve(static_cast<Eigen::Index>(n + 3 * nt + patch.boundary.size()));
   int* outer = laplacian.outerIndexPtr();
-  std::vector<int> inner;
-  std::vector<double> values;
-  // A disc has n + 2E = n + 3F + (boundary edges) entries.
-  inner.reserve(n + 3 * nt + patch.boundary.size());
-  values.reserve(n + 3 * nt + patch.boundary.size());
   outer[0] = 0;
+  std::vector<std::pair<std::uint32_t, double>> column;
   for (std::uint32_t c = 0; c < n; ++c) {
     column.clear();
     for (std::uint32_t s = start[c]; s < start[c + 1]; ++s) {
       const std::uint32_t t = corners[s] / 3, m = corners[s] % 3;
       const Triangle& tri = patch.triangles[t];
-      // Edge (m, m+1) is opposite corner m+2, edge (m, m+2) opposite corner m+1; in
-      // emission order: corner k = m+1 first when it is the smaller k, as the triplets were.
+      // Edge (m, m+2) is opposite corner m+1, edge (m, m+1) opposite corner m+2.
       const std::uint32_t k1 = (m + 1) % 3, k2 = (m + 2) % 3;
-      const std::pair<std::uint32_t, double> a{tri[k2], -weight[t][k1]};  // edge (m, m+2)
-      const std::pair<std::uint32_t, double> b{tri[k1], -weight[t][k2]};  // edge (m, m+1)
-      column.push_back(a);
-      column.push_back(b);
+      column.emplace_back(tri[k2], -weight[t][k1]);
+      column.emplace_back(tri[k1], -weight[t][k2]);
     }
     // Stable insertion sort by row: equal rows keep triangle order.
     for (std::size_t i = 1; i < column.size(); ++i) {
@@ -213,26 +209,18 @@ Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch) {
     for (std::size_t i = 0; i < column.size(); ++i) {
       const std::uint32_t row = column[i].first;
       if (!diagonal_done && row > c) {
-        inner.push_back(static_cast<int>(c));
-        values.push_back(diagonal[c]);
+        data.append(diagonal[c], c);
         diagonal_done = true;
       }
       if (i > 0 && column[i - 1].first == row) {
-        values.back() += column[i].second;
+        data.value(data.size() - 1) += column[i].second;
       } else {
-        inner.push_back(static_cast<int>(row));
-        values.push_back(column[i].second);
+        data.append(column[i].second, row);
       }
     }
-    if (!diagonal_done) {
-      inner.push_back(static_cast<int>(c));
-      values.push_back(diagonal[c]);
-    }
-    outer[c + 1] = static_cast<int>(inner.size());
+    if (!diagonal_done) data.append(diagonal[c], c);
+    outer[c + 1] = static_cast<int>(data.size());
   }
-  laplacian.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-  std::copy(inner.begin(), inner.end(), laplacian.innerIndexPtr());
-  std::copy(values.begin(), values.end(), laplacian.valuePtr());
   return laplacian;
 }
 
