@@ -110,26 +110,45 @@ struct SplitLaplacian {
   Eigen::SparseMatrix<double> a_ib;
 };
 
+// Copied column by column (no triplets: at 1M faces they were ~120 MB of fresh memory). The
+// interior numbering follows the vertex order, so each column's rows stay sorted; A_II's
+// columns come in order, A_IB's in boundary-loop order, so those are counted first.
 SplitLaplacian split_laplacian(const DiscPatch& patch, const BffIndex& index) {
   const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(patch);
-  std::vector<Eigen::Triplet<double>> ii;
-  std::vector<Eigen::Triplet<double>> ib;
-  ii.reserve(static_cast<std::size_t>(laplacian.nonZeros()));
+  const auto nb = static_cast<Eigen::Index>(patch.boundary.size());
+  SplitLaplacian out{Eigen::SparseMatrix<double>(index.num_interior, index.num_interior),
+                     Eigen::SparseMatrix<double>(index.num_interior, nb)};
+  std::vector<int> ib_count(static_cast<std::size_t>(nb) + 1, 0);
+  Eigen::Index ii_entries = 0;
   for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
-      const Eigen::Index r = it.row();
-      if (index.interior[r] < 0) continue;
+      if (index.interior[it.row()] < 0) continue;
       if (index.interior[c] >= 0) {
-        ii.emplace_back(index.interior[r], index.interior[c], it.value());
+        ++ii_entries;
       } else {
-        ib.emplace_back(index.interior[r], index.boundary[c], it.value());
+        ++ib_count[index.boundary[c] + 1];
       }
     }
   }
-  SplitLaplacian out{Eigen::SparseMatrix<double>(index.num_interior, index.num_interior),
-                     Eigen::SparseMatrix<double>(index.num_interior, static_cast<Eigen::Index>(patch.boundary.size()))};
-  out.a_ii.setFromTriplets(ii.begin(), ii.end());
-  out.a_ib.setFromTriplets(ib.begin(), ib.end());
+  for (Eigen::Index b = 0; b < nb; ++b) ib_count[b + 1] += ib_count[b];
+  out.a_ii.resizeNonZeros(ii_entries);
+  out.a_ib.resizeNonZeros(ib_count[nb]);
+  std::copy(ib_count.begin(), ib_count.end(), out.a_ib.outerIndexPtr());
+  int* ii_outer = out.a_ii.outerIndexPtr();
+  ii_outer[0] = 0;
+  int ii_next = 0;
+  for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
+    const bool interior_column = index.interior[c] >= 0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, c); it; ++it) {
+      const Eigen::Index r = index.interior[it.row()];
+      if (r < 0) continue;
+      const int at = interior_column ? ii_next++ : ib_count[index.boundary[c]]++;
+      Eigen::SparseMatrix<double>& block = interior_column ? out.a_ii : out.a_ib;
+      block.innerIndexPtr()[at] = static_cast<int>(r);
+      block.valuePtr()[at] = it.value();
+    }
+    if (interior_column) ii_outer[index.interior[c] + 1] = ii_next;
+  }
   return out;
 }
 
