@@ -133,13 +133,15 @@ class VisitRemoval {
     }
     SEAM_ASSERT(!candidates.empty());
     std::sort(candidates.begin(), candidates.end());
+    constexpr double kInf = std::numeric_limits<double>::infinity();
     std::size_t best = n;
-    double best_priority = std::numeric_limits<double>::infinity();
+    double best_priority = kInf;
     for (const Candidate& c : candidates) {
       if (c.bound > best_priority) break;
       const auto [pre, nxt] = ends(c.visit);
       const double priority = distance(pre, nxt);
-      if (std::tie(priority, c.visit) >= std::tie(best_priority, best)) continue;
+      // An unreachable pair (infinite) never wins; ties go to the first visit.
+      if (!(priority < kInf) || std::tie(priority, c.visit) >= std::tie(best_priority, best)) continue;
       if (!replacement_is_simple(checker_, tour_, prev_index(c.visit, n), 2, shortest(pre, nxt),
                                  paths_.terminals[pre])) {
         ++stats_.rejected_removals;
