@@ -87,8 +87,9 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
 /// other settled terminals are recorded too) when first asked for; the tour asks for few,
 /// mostly near, pairs. `graph` and `mesh` must outlive the table. `euclidean`: every edge of
 /// `graph` weighs at least the straight-line distance between its ends (e.g. the default
-/// Euclidean weights); pair searches are then A* towards the target with that distance as
-/// the estimate, which settles fewer vertices and gives the same distances.
+/// Euclidean weights); pair searches are then A* towards the target, estimating the larger
+/// of that distance and the vertex's distance to its nearest terminal (kept from the first
+/// search, 8 bytes per vertex), which settles fewer vertices and gives the same distances.
 /// Errors: kInvalidArgument (as compute_terminal_paths), kCancelled (during the first search;
 /// later searches are not cancellable but each is one bounded Dijkstra).
 /// Complexity: O(E log V + k^2 log k) up front.
