@@ -440,25 +440,29 @@ bool moves_well(const std::vector<std::pair<Vec2, Vec2>>& ring, const Vec2& from
 }  // namespace
 
 std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, double min_area_2x) {
-  auto thin = [&](const Triangle& t) { return !(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > min_area_2x); };
-  auto count_thin = [&] {
-    return static_cast<std::size_t>(std::count_if(patch.triangles.begin(), patch.triangles.end(), thin));
+  auto thin = [&](std::uint32_t t) {
+    const Triangle& tri = patch.triangles[t];
+    return !(signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > min_area_2x);
   };
-  std::size_t flipped = count_thin();
-  if (flipped == 0) return 0;
+  // The thin triangles in index order, kept up to date from the stars of the vertices each
+  // round moves (a triangle changes only when a corner moves): the rounds see what a scan of
+  // every triangle would give, without one (at 1.25M faces 40 scans were ~0.1 s).
+  std::vector<std::uint32_t> thin_set;
+  for (std::uint32_t t = 0; t < patch.triangles.size(); ++t) {
+    if (thin(t)) thin_set.push_back(t);
+  }
+  if (thin_set.empty()) return 0;
   const VertexStars stars = vertex_stars(patch);
   std::vector<std::uint8_t> boundary(patch.num_vertices(), 0);
   for (std::uint32_t v : patch.boundary) boundary[v] = 1;
   std::vector<std::uint8_t> mark(patch.num_vertices(), 0);
-  std::vector<std::uint32_t> candidates;
+  std::vector<std::uint32_t> candidates, moved;
   std::vector<std::pair<Vec2, Vec2>> ring;
-  for (int round = 0; round < rounds && flipped > 0; ++round) {
+  for (int round = 0; round < rounds && !thin_set.empty(); ++round) {
     // The interior corners of folded triangles and, from the second round, their neighbours.
-    std::fill(mark.begin(), mark.end(), 0);
     candidates.clear();
-    for (const Triangle& t : patch.triangles) {
-      if (!thin(t)) continue;
-      for (std::uint32_t v : t) {
+    for (std::uint32_t t : thin_set) {
+      for (std::uint32_t v : patch.triangles[t]) {
         if (mark[v]) continue;
         mark[v] = 1;
         candidates.push_back(v);
@@ -474,7 +478,9 @@ std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, 
         }
       }
     }
+    moved.clear();
     for (std::uint32_t v : candidates) {
+      mark[v] = 0;
       const std::uint32_t degree = stars.offset[v + 1] - stars.offset[v];
       if (boundary[v] || degree < 3 || degree > kUntangleMaxDegree) continue;
       ring.clear();
@@ -484,11 +490,19 @@ std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, 
         ring.emplace_back(uv[t[(at + 1) % 3]], uv[t[(at + 2) % 3]]);
       }
       const auto [p, t] = max_min_area_point(ring);
-      if (moves_well(ring, uv[v], p, t, round >= rounds / 2, min_area_2x)) uv[v] = p;
+      if (moves_well(ring, uv[v], p, t, round >= rounds / 2, min_area_2x)) {
+        uv[v] = p;
+        moved.push_back(v);
+      }
     }
-    flipped = count_thin();
+    for (std::uint32_t v : moved) {
+      for (std::uint32_t k = stars.offset[v]; k < stars.offset[v + 1]; ++k) thin_set.push_back(stars.triangles[k]);
+    }
+    std::sort(thin_set.begin(), thin_set.end());
+    thin_set.erase(std::unique(thin_set.begin(), thin_set.end()), thin_set.end());
+    std::erase_if(thin_set, [&](std::uint32_t t) { return !thin(t); });
   }
-  return flipped;
+  return thin_set.size();
 }
 
 }  // namespace seam::core
