@@ -30,7 +30,6 @@ class LazyHeap {
 
   bool empty() const { return heap_.empty(); }
   void clear() { heap_.clear(); }
-  /// `key` >= 0 (distances, A* keys).
   void push(double key, std::uint32_t v) {
     heap_.push_back(pack(key, v));
     sift_up(heap_.size() - 1, heap_.back());
@@ -59,8 +58,7 @@ class LazyHeap {
     }
     return unpack(top);
   }
-  /// Adds `delta(v)` (>= -key) to every key and restores the heap order (A* re-keying of
-  /// sources).
+  /// Adds `delta(v)` to every key and restores the heap order (A* re-keying of sources).
   template <class Delta>
   void rekey(Delta&& delta) {
     for (auto& entry : heap_) {
@@ -73,15 +71,16 @@ class LazyHeap {
 
  private:
   static constexpr std::size_t kArity = 4;
-  // (key, vertex) as one 128-bit integer: the bits of a non-negative double order as the
-  // double does, so one unsigned comparison orders by key, then vertex (the order of
-  // Entry's operator<, without its branches). + 0.0 turns a -0.0 key into +0.0.
+  // (key, vertex) as one 128-bit integer whose unsigned order is the order by key, then
+  // vertex (Entry's operator<, without its branches): a double's bits with the sign bit
+  // flipped (non-negative keys) or all bits flipped (negative ones) order as the double does;
+  // + 0.0 turns a -0.0 key into +0.0.
   __extension__ typedef unsigned __int128 Packed;
-  static Packed pack(double key, std::uint32_t v) {
-    return (Packed{std::bit_cast<std::uint64_t>(key + 0.0)} << 32) | v;
-  }
+  static Packed pack(double key, std::uint32_t v) { return (Packed{ordered_bits(key)} << 32) | v; }
   static Entry unpack(Packed p) {
-    return {std::bit_cast<double>(static_cast<std::uint64_t>(p >> 32)), static_cast<std::uint32_t>(p)};
+    const auto u = static_cast<std::uint64_t>(p >> 32);
+    const std::uint64_t bits = (u >> 63) ? u ^ (std::uint64_t{1} << 63) : ~u;
+    return {std::bit_cast<double>(bits), static_cast<std::uint32_t>(p)};
   }
 
   // Places `entry` at hole i or above it.

@@ -9,6 +9,13 @@
 
 namespace seam::core {
 
+/// The bits of `key` as an unsigned integer that orders as the doubles do (NaN aside): the
+/// sign bit flipped for keys >= 0, every bit flipped for negative ones; -0.0 counts as +0.0.
+inline std::uint64_t ordered_bits(double key) {
+  const std::uint64_t u = std::bit_cast<std::uint64_t>(key + 0.0);
+  return u ^ ((u >> 63) ? ~std::uint64_t{0} : (std::uint64_t{1} << 63));
+}
+
 // Keyed by an external distance array that the caller owns and updates before calling
 // push_or_decrease. Compared with std::priority_queue and lazy deletion it holds each vertex
 // at most once (V entries instead of up to E), which halves the memory traffic on large
@@ -23,7 +30,7 @@ class IndexedHeap {
   /// The key the heap orders v by (the caller's distance array).
   double key(std::uint32_t v) const { return key_[v]; }
 
-  /// Inserts v, or moves it up after its key decreased. Keys are >= 0 (distances).
+  /// Inserts v, or moves it up after its key decreased.
   void push_or_decrease(std::uint32_t v) {
     std::uint32_t i = position_[v];
     if (i == kNone) {
@@ -43,11 +50,10 @@ class IndexedHeap {
   }
 
  private:
-  // Each entry carries its key: (key, vertex) as one 128-bit integer, whose unsigned order
-  // is the order by key, then index (the bits of a non-negative double order as the double
-  // does; + 0.0 turns -0.0 into +0.0), so comparisons read no distance array.
+  // Each entry carries its key: (key, vertex) as one 128-bit integer whose unsigned order is
+  // the order by key, then index (ordered_bits), so comparisons read no distance array.
   __extension__ typedef unsigned __int128 Packed;
-  Packed pack(std::uint32_t v) const { return (Packed{std::bit_cast<std::uint64_t>(key_[v] + 0.0)} << 32) | v; }
+  Packed pack(std::uint32_t v) const { return (Packed{ordered_bits(key_[v])} << 32) | v; }
   static std::uint32_t vertex(Packed p) { return static_cast<std::uint32_t>(p); }
 
   void place(std::uint32_t i, Packed entry) {

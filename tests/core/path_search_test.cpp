@@ -310,3 +310,42 @@ TEST_CASE("run_astar reaches its target at the Bellman–Ford distance, and a ne
   }
   CHECK(with_floor < without);
 }
+
+TEST_CASE("ordered_bits orders as the doubles do, negative keys and both zeros included; LazyHeap pops them in order") {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1e6, 1e6);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> keys = {0.0,
+                              -0.0,
+                              inf,
+                              -inf,
+                              1e-300,
+                              -1e-300,
+                              std::numeric_limits<double>::denorm_min(),
+                              -std::numeric_limits<double>::denorm_min(),
+                              1.0,
+                              -1.0};
+  for (int i = 0; i < 200; ++i) keys.push_back(u(rng));
+  for (double a : keys) {
+    for (double b : keys) {
+      CAPTURE(a);
+      CAPTURE(b);
+      CHECK((ordered_bits(a) < ordered_bits(b)) == (a < b));
+      CHECK((ordered_bits(a) == ordered_bits(b)) == (a == b));
+    }
+  }
+  LazyHeap heap;
+  std::vector<LazyHeap::Entry> oracle;
+  for (std::uint32_t i = 0; i < keys.size(); ++i) {
+    heap.push(keys[i], i % 7);
+    oracle.emplace_back(keys[i] + 0.0, i % 7);
+  }
+  std::sort(oracle.begin(), oracle.end());
+  for (const auto& expected : oracle) {
+    REQUIRE_FALSE(heap.empty());
+    const auto [key, v] = heap.pop();
+    CHECK(key == expected.first);
+    CHECK(v == expected.second);
+  }
+  CHECK(heap.empty());
+}
