@@ -199,7 +199,7 @@ TEST_CASE("seamd seam reads OFF, refuses bad usage with 2 and bad input with 1")
   CHECK(cli({"seam", off, "-x"}, out, err) == 2);
 }
 
-TEST_CASE("seamd seam IN OUT writes what a direct pipeline call writes; --mesh and --out are aliases") {
+TEST_CASE("seamd seam IN OUT writes what a direct pipeline call writes, --mesh and --out are aliases") {
   TempDir dir("positional");
   const std::string off = seam::test_data::cgal_mesh_path("hand");
   const json params = {{"uv", "bff"}, {"refine", false}, {"method", "skeleton"}, {"extrema", {0, 100, 700}}};
@@ -358,7 +358,7 @@ TEST_CASE("every parameter flag maps onto the HTTP parameter JSON") {
   }
 }
 
-TEST_CASE("--params JSON|@file|@- is the HTTP parameter object; flags override it key by key") {
+TEST_CASE("--params JSON|@file|@- is the HTTP parameter object, flags override it key by key") {
   TempDir dir("params");
   const std::string off = seam::test_data::cgal_mesh_path("hand");
   const json params = {{"uv", "none"}, {"method", "mst"}, {"extrema", {3, 30, 300}}, {"refine", false}};
@@ -424,7 +424,7 @@ TEST_CASE("a flag given twice, or a flag and its alias, is a usage error") {
   }
 }
 
-TEST_CASE("--help prints the usage on stdout with exit 0; --version prints the version") {
+TEST_CASE("--help prints the usage on stdout with exit 0, --version prints the version") {
   for (const char* command : {"seam", "batch", "sample"}) {
     const auto help = run({command, "--help"});
     CHECK(help.code == 0);

@@ -417,7 +417,7 @@ std::string gltf_with_extras(const std::string& extras) {
 
 }  // namespace
 
-TEST_CASE("glTF JSON nested 100,000 deep is a malformed asset in .gltf and GLB; depth 64 is read") {
+TEST_CASE("glTF JSON nested 100,000 deep is a malformed asset in .gltf and GLB, depth 64 is read") {
   const std::string deep_arrays = std::string(100'000, '[') + std::string(100'000, ']');
   std::string deep_objects;
   for (int i = 0; i < 100'000; ++i) deep_objects += "{\"a\":";

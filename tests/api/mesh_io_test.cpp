@@ -55,7 +55,7 @@ TEST_CASE("hostile OFF input gets malformed_asset with the line, never a crash")
   CHECK(line.error().details["line"] == 6);
 }
 
-TEST_CASE("OBJ: v/vt/vn corners, negative indices, polygons; hostile input refused") {
+TEST_CASE("OBJ: v/vt/vn corners, negative indices, polygons, hostile input refused") {
   const std::string text =
       "# cube corner\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n"
       "f 1/1/1 2/1/1 3/1/1 4/1/1\nf -4 -2 -1\n";

@@ -91,7 +91,7 @@ std::string split_copy(const core::IndexedMesh& m, bool draco) {
 
 }  // namespace
 
-TEST_CASE("the same seam from GLB, split-vertex GLB and Draco GLB of a real mesh; output is valid and a disc") {
+TEST_CASE("the same seam from GLB, split-vertex GLB and Draco GLB of a real mesh, output is valid and a disc") {
   const core::IndexedMesh soup = test_data::load_cgal("elephant");
   const auto plain = write_plain_glb(soup);
   const auto draco = write_plain_glb(soup, {}, true);

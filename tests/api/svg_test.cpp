@@ -110,7 +110,7 @@ TEST_CASE("svg: one polygon per triangle at the layout's coordinates, v flipped"
   }
 }
 
-TEST_CASE("svg: charts get their own colours; triangles of one chart share theirs") {
+TEST_CASE("svg: charts get their own colours, triangles of one chart share theirs") {
   const auto svg = render_uv_svg({two_charts()});
   REQUIRE(svg.ok());
   const auto polygons = named(parse_tags(svg.value()), "polygon");

@@ -145,7 +145,7 @@ TEST_CASE("by default every triangle primitive is cut once, lines kept, the asse
   CHECK(doc->json["accessors"][lines_positions]["count"] == fixtures::icosphere(2).positions.size());
 }
 
-TEST_CASE("one texel density across an asset group; group_by primitive packs each alone") {
+TEST_CASE("one texel density across an asset group, group_by primitive packs each alone") {
   const std::string asset = three_mesh_asset();
   for (const char* group : {"asset", "primitive", "material", "mesh"}) {
     CAPTURE(group);
@@ -252,7 +252,7 @@ std::size_t boundary_edge_count(const std::vector<core::Triangle>& triangles) {
 
 }  // namespace
 
-TEST_CASE("pack split: a sprawling chart is cut into pieces that pack fuller; the surface and its attributes are kept") {
+TEST_CASE("pack split: a sprawling chart is cut into pieces that pack fuller, the surface and its attributes are kept") {
   const auto elephant = test_data::load_cgal("elephant");
   auto glb = write_plain_glb(elephant);
   REQUIRE(glb.ok());

@@ -113,7 +113,7 @@ TEST_CASE("a torus needs two loops: one gives an annulus, which is not a disc") 
   CHECK(std::count(square->to_original.begin(), square->to_original.end(), id(0, 0)) == 4);
 }
 
-TEST_CASE("boundary edges are already open; several components are checked one by one") {
+TEST_CASE("boundary edges are already open, several components are checked one by one") {
   const HalfedgeMesh mesh = fx::build_fixture(fx::join(fx::disc(), fx::translated(fx::disc(), Vec3(3, 0, 0))));
   std::vector<EdgeId> boundary;
   for (std::size_t e = 0; e < mesh.num_edges(); ++e) {

@@ -212,7 +212,7 @@ TEST_CASE("extrema: per component, each judged against its own area") {
   check_same_tips(mesh, second, small_ball.tips, 0.003);
 }
 
-TEST_CASE("extrema: max_count keeps the most prominent; isolated vertices are ignored") {
+TEST_CASE("extrema: max_count keeps the most prominent, isolated vertices are ignored") {
   fx::Soup soup = hand().soup;
   soup.positions.emplace_back(100, 100, 100);  // an isolated vertex
   const HalfedgeMesh mesh = build(soup);
@@ -260,7 +260,7 @@ fx::Soup plate_part(double size, const Vec3& at) {
   return s;
 }
 
-TEST_CASE("extrema: small closed parts: boxes and plates get none, a rod its two ends; the body keeps its tips") {
+TEST_CASE("extrema: small closed parts: boxes and plates get none, a rod its two ends, the body keeps its tips") {
   // The hand and, beside it, 6 boxes, 6 plates and one rod, each well under a quarter of the
   // hand's diagonal.
   fx::Soup soup = hand().soup;

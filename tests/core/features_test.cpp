@@ -63,7 +63,7 @@ std::size_t count_sharp(const HalfedgeMesh& mesh, double deg) {
 
 }  // namespace
 
-TEST_CASE("a cube's features are its 12 edges; they open it into 6 squares with no distortion") {
+TEST_CASE("a cube's features are its 12 edges, they open it into 6 squares with no distortion") {
   for (const char* source : {"cgal cube", "voxel"}) {
     CAPTURE(source);
     const HalfedgeMesh cube = std::string(source) == "voxel"
@@ -95,7 +95,7 @@ TEST_CASE("a cube's features are its 12 edges; they open it into 6 squares with 
   }
 }
 
-TEST_CASE("a smooth sphere has no feature edges; a coarse one has them only below its dihedral angle") {
+TEST_CASE("a smooth sphere has no feature edges, a coarse one has them only below its dihedral angle") {
   const HalfedgeMesh sphere = fx::build_fixture(fx::icosphere(3));
   auto f = find_feature_edges(sphere);
   REQUIRE(f.ok());

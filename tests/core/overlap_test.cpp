@@ -144,7 +144,7 @@ TEST_CASE("a strip bent through less than a full turn has no overlap, past it th
   CHECK(r.first_pair[0] < r.first_pair[1]);
 }
 
-TEST_CASE("charts placed apart or touching do not overlap; a moved copy does and is counted between charts") {
+TEST_CASE("charts placed apart or touching do not overlap, a moved copy does and is counted between charts") {
   const HalfedgeMesh disc = fx::build_fixture(fx::disc(5, 20));
   Layout l;
   std::vector<std::uint32_t> chart;

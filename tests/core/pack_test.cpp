@@ -246,7 +246,7 @@ OwnedChart comb_chart() {
 
 }  // namespace
 
-TEST_CASE("the minimal-area rectangle of a rotated rectangle is the rectangle; of a polygon, no larger than a fine search") {
+TEST_CASE("the minimal-area rectangle of a rotated rectangle is the rectangle, of a polygon, no larger than a fine search") {
   for (double angle : {0.0, 0.3, 1.0, 2.5}) {
     const OwnedChart c = grid_chart(3, 1, angle, Vec2(5, -2), 1, 1);
     const std::vector<Vec2> hull = convex_hull(c.uv);

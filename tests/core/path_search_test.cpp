@@ -311,7 +311,7 @@ TEST_CASE("run_astar reaches its target at the Bellman–Ford distance, and a ne
   CHECK(with_floor < without);
 }
 
-TEST_CASE("ordered_bits orders as the doubles do, negative keys and both zeros included; LazyHeap pops them in order") {
+TEST_CASE("ordered_bits orders as the doubles do (negative keys and both zeros included), and LazyHeap pops them in order") {
   std::mt19937 rng(23);
   std::uniform_real_distribution<double> u(-1e6, 1e6);
   const double inf = std::numeric_limits<double>::infinity();

@@ -157,7 +157,7 @@ TEST_CASE("several sheets on one edge: books of 3 to 6 pages, two tetrahedra on 
   }
 }
 
-TEST_CASE("faces degenerate after welding are left out and reported; the rest builds") {
+TEST_CASE("faces degenerate after welding are left out and reported, the rest builds") {
   fx::Soup in = fx::icosphere(1);
   const std::size_t sphere_faces = in.triangles.size();
   in.triangles.push_back({3, 7, 7});  // a repeated vertex (two input vertices welded into one)

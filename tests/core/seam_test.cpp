@@ -429,7 +429,7 @@ TEST_CASE("the default claims `optimal` only where it equals the exact optimum (
   CHECK(claimed >= 24);  // these meshes are small: the exact seam is within the default budget
 }
 
-TEST_CASE("edge_costs: the same search code minimises the weighted length; length stays Euclidean") {
+TEST_CASE("edge_costs: the same search code minimises the weighted length, length stays Euclidean") {
   const HalfedgeMesh mesh = build(fx::icosphere(3));
   const std::vector<VertexId> extrema = {VertexId(0u), VertexId(5u), VertexId(9u), VertexId(11u)};
   auto plain = compute_seam(mesh, extrema);

@@ -259,7 +259,7 @@ TEST_CASE("invalid input is refused") {
   CHECK(skeleton_seam(s.mesh, s.graph, wrong, s.paths).error().code == ErrorCode::kInvalidArgument);
 }
 
-TEST_CASE("real CGAL meshes (hand, camel): full-component tree; lengths against the MST seam") {
+TEST_CASE("real CGAL meshes (hand, camel): full-component tree, lengths against the MST seam") {
   for (const std::string name : {"hand", "camel"}) {
     for (std::size_t count : {5u, 8u}) {
       CAPTURE(name);

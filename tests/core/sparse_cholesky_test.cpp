@@ -172,7 +172,7 @@ void record_region(void* data) {
 
 }  // namespace
 
-TEST_CASE("in a solver thread an OpenMP region runs inline once; other threads keep libgomp's teams") {
+TEST_CASE("in a solver thread an OpenMP region runs inline once, other threads keep libgomp's teams") {
   // The dynamic linker binds GOMP_parallel to the executable's definition (core/CMakeLists.txt
   // exports it), which CHOLMOD's calls then reach.
   auto* ours = reinterpret_cast<Parallel>(dlsym(RTLD_DEFAULT, "GOMP_parallel"));

@@ -41,7 +41,7 @@ std::map<std::uint32_t, int> degrees(const HalfedgeMesh& mesh, const std::vector
 
 }  // namespace
 
-TEST_CASE("check_full_component_tree: a path between two terminals passes; each violation is named") {
+TEST_CASE("check_full_component_tree: a path between two terminals passes, each violation is named") {
   const HalfedgeMesh mesh = sphere();
   const EdgeGraph graph = build_edge_graph(mesh);
   const VertexId a(0u), b(40u), c(100u);
@@ -139,7 +139,7 @@ TEST_CASE("check_full_component_tree: a path between two terminals passes; each 
   CHECK(apart.error().elements == std::vector<std::uint32_t>{lowest_apart});
 }
 
-TEST_CASE("star_tree: every terminal a leaf of one tree on random sets; refused when a terminal is walled in") {
+TEST_CASE("star_tree: every terminal a leaf of one tree on random sets, refused when a terminal is walled in") {
   const HalfedgeMesh mesh = sphere();
   const EdgeGraph graph = build_edge_graph(mesh);
   std::mt19937 rng(3);

@@ -81,7 +81,7 @@ TEST_CASE("what the mesh hides is not seen, and a narrow gap is not open") {
   CHECK(again->openness.raw() == vis->openness.raw());
 }
 
-TEST_CASE("hiding multipliers: seen edges cost 1 + strength, unseen 1; silhouettes count as seen") {
+TEST_CASE("hiding multipliers: seen edges cost 1 + strength, unseen 1, silhouettes count as seen") {
   const HalfedgeMesh cube = build(fixtures::voxel_surface({{0, 0, 0}}));
   auto vis = compute_visibility(cube, VisibilityOptions{{Vec3(0, 0, -1)}});
   REQUIRE(vis.ok());

@@ -113,7 +113,7 @@ TEST_CASE("config: cgroup quota and memory limit parsing (v2 and v1)") {
   CHECK(available_cpus() >= 1);
 }
 
-TEST_CASE("config: the face limit follows the memory limit; the drain covers the budget") {
+TEST_CASE("config: the face limit follows the memory limit, and the drain covers the budget") {
   using namespace seam::server;
   ServerConfig c;
   c.workers = 2;

@@ -220,7 +220,7 @@ TEST_CASE("hostile: 80 clients trickling a byte a second leave /healthz and seam
   check_alive(seamd);
 }
 
-TEST_CASE("hostile: a client that disconnects cancels its job; a half-closed one frees its worker too") {
+TEST_CASE("hostile: a client that disconnects cancels its job, and a half-closed one frees its worker too") {
   // A 327,680-face sphere: seconds of work for one worker, so a job that was not cancelled
   // would hold the only worker well past the checks below.
   const auto sphere = seam::fixtures::icosphere(7);

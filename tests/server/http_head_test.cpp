@@ -124,7 +124,7 @@ TEST_CASE("http_head: the path is the one the library routes on") {
   }
 }
 
-TEST_CASE("http_head: a field line is counted as the library reads it; the target starts with '/'") {
+TEST_CASE("http_head: a field line is counted as the library reads it, and the target starts with '/'") {
   // sanitized "X: value\r\n" must fit cpp-httplib's 8192-byte line buffer (http_head_fuzz).
   CHECK(parse_request_head("GET / HTTP/1.1\r\nX: " + std::string(8187, 'a') + "\r\n\r\n", {}).ok());
   CHECK(code_of("GET / HTTP/1.1\r\nX: " + std::string(8188, 'a') + "\r\n\r\n") == ApiErrorCode::kHeadersTooLarge);

@@ -292,7 +292,7 @@ TEST_CASE("every client error status of the contract, as a JSON error body") {
   CHECK(srv.server().metrics().count("other", 404) == 1);
 }
 
-TEST_CASE("a full pool answers 503 with Retry-After at once; nothing is lost") {
+TEST_CASE("a full pool answers 503 with Retry-After at once, and nothing is lost") {
   auto config = test_config();
   config.workers = 1;
   config.queue = 1;
@@ -336,7 +336,7 @@ TEST_CASE("a full pool answers 503 with Retry-After at once; nothing is lost") {
   CHECK(ready->status == 200);
 }
 
-TEST_CASE("/readyz stays 200 (busy) while the pool is full; 503 once full for longer than the budget") {
+TEST_CASE("/readyz stays 200 (busy) while the pool is full, and 503 once full for longer than the budget") {
   auto config = test_config();
   config.workers = 1;
   config.queue = 0;
