@@ -87,66 +87,67 @@ Vec3 corner_cotans(const DiscPatch& patch, std::size_t t) {
 
 namespace {
 
-// Column by column, each vertex and the vertices it shares a triangle edge with (rows
-// sorted, no repeats; only rows >= the column when `lower`): the index arrays of a
-// compressed sparse matrix. Built by a counting sort of the triangles' edge ends instead of
-// triplets: at 1M faces the triplets and setFromTriplets' transposed copy were ~250 MB of
-// fresh memory, whose first touch costs more than the work on it in this VM.
-struct AdjacencyColumns {
-  std::vector<int> outer;  // n + 1
-  std::vector<int> inner;
-};
-
-AdjacencyColumns adjacency_columns(std::size_t n, std::span<const Triangle> triangles, bool lower) {
-  std::vector<std::uint32_t> start(n + 1, 0);
-  for (const Triangle& tri : triangles) {
-    for (int k = 0; k < 3; ++k) start[tri[k] + 1] += 2;
-  }
-  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> ends(start[n]);
-  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (const Triangle& tri : triangles) {
-    for (int k = 0; k < 3; ++k) {
-      ends[fill[tri[k]]++] = tri[(k + 1) % 3];
-      ends[fill[tri[k]]++] = tri[(k + 2) % 3];
+// An n x n compressed matrix built column by column into its own arrays (no triplets: at 1M
+// faces triplets and setFromTriplets' transposed copy were ~250 MB of fresh memory, whose
+// first touch costs more than the work on it in this VM). `column(c, entries)` lists column
+// c's (row, value) pairs, a row possibly more than once; they are ordered by row with a
+// stable insertion sort (columns are short), and a repeated row's values are folded in
+// listed order by `merge`. `expected` entries are reserved.
+template <class Column, class Merge>
+Eigen::SparseMatrix<double> by_columns(std::size_t n, std::size_t expected, Column&& column, Merge&& merge) {
+  Eigen::SparseMatrix<double> matrix(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  auto& data = matrix.data();
+  data.reserve(static_cast<Eigen::Index>(expected));
+  int* outer = matrix.outerIndexPtr();
+  outer[0] = 0;
+  std::vector<std::pair<std::uint32_t, double>> entries;
+  for (std::uint32_t c = 0; c < n; ++c) {
+    entries.clear();
+    column(c, entries);
+    for (std::size_t i = 1; i < entries.size(); ++i) {
+      const auto x = entries[i];
+      std::size_t j = i;
+      for (; j > 0 && entries[j - 1].first > x.first; --j) entries[j] = entries[j - 1];
+      entries[j] = x;
     }
-  }
-  AdjacencyColumns out;
-  out.outer.assign(n + 1, 0);
-  out.inner.reserve((lower ? ends.size() / 4 : ends.size() / 2) + n);
-  for (std::uint32_t v = 0; v < n; ++v) {
-    const auto first = ends.begin() + start[v];
-    auto last = ends.begin() + start[v + 1];
-    std::sort(first, last);
-    last = std::unique(first, last);
-    const auto above = std::upper_bound(first, last, v);
-    if (!lower) {
-      for (auto it = first; it != above; ++it) {
-        if (*it != v) out.inner.push_back(static_cast<int>(*it));
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      if (i > 0 && entries[i - 1].first == entries[i].first) {
+        data.value(data.size() - 1) = merge(data.value(data.size() - 1), entries[i].second);
+      } else {
+        data.append(entries[i].second, entries[i].first);
       }
     }
-    out.inner.push_back(static_cast<int>(v));
-    for (auto it = above; it != last; ++it) out.inner.push_back(static_cast<int>(*it));
-    out.outer[v + 1] = static_cast<int>(out.inner.size());
+    outer[c + 1] = static_cast<int>(data.size());
   }
-  return out;
+  return matrix;
 }
 
-Eigen::SparseMatrix<double> compressed(std::size_t n, const AdjacencyColumns& columns, std::span<const double> values) {
-  const auto size = static_cast<Eigen::Index>(n);
-  Eigen::SparseMatrix<double> matrix(size, size);
-  matrix.resizeNonZeros(static_cast<Eigen::Index>(columns.inner.size()));
-  std::copy(columns.outer.begin(), columns.outer.end(), matrix.outerIndexPtr());
-  std::copy(columns.inner.begin(), columns.inner.end(), matrix.innerIndexPtr());
-  std::copy(values.begin(), values.end(), matrix.valuePtr());
-  return matrix;
+// The position (0, 1, 2) of vertex v in triangle t, which holds it.
+int corner_of(const Triangle& t, std::uint32_t v) {
+  return t[0] == v ? 0 : t[1] == v ? 1 : 2;
+}
+
+// A disc's entries in the lower triangle with the diagonal: n + E, E = (3F + boundary) / 2.
+std::size_t disc_lower_entries(const DiscPatch& patch) {
+  return patch.num_vertices() + (3 * patch.triangles.size() + patch.boundary.size()) / 2;
 }
 
 }  // namespace
 
 Eigen::SparseMatrix<double> vertex_graph_lower(const DiscPatch& patch) {
-  const AdjacencyColumns columns = adjacency_columns(patch.num_vertices(), patch.triangles, true);
-  return compressed(patch.num_vertices(), columns, std::vector<double>(columns.inner.size(), 1.0));
+  const VertexStars stars = vertex_stars(patch);
+  // An edge of two triangles is listed twice: one entry, still 1.
+  return by_columns(
+      patch.num_vertices(), disc_lower_entries(patch),
+      [&](std::uint32_t c, std::vector<std::pair<std::uint32_t, double>>& entries) {
+        entries.emplace_back(c, 1.0);
+        for (std::uint32_t k = stars.offset[c]; k < stars.offset[c + 1]; ++k) {
+          for (std::uint32_t u : patch.triangles[stars.triangles[k]]) {
+            if (u > c) entries.emplace_back(u, 1.0);
+          }
+        }
+      },
+      [](double, double) { return 1.0; });
 }
 
 Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch) {
@@ -164,64 +165,25 @@ Eigen::SparseMatrix<double> cotan_laplacian(const DiscPatch& patch) {
       diagonal[tri[(k + 2) % 3]] += weight[t][k];
     }
   }
-  // Per column, the triangles at its vertex in triangle order (a counting sort), each giving
-  // two off-diagonal entries; sorted by row with a stable insertion sort, so repeats (an
-  // interior edge's two triangles) are summed in triangle order: the doubles setFromTriplets
-  // gave (uv_patch_test compares bit for bit), without 16-byte triplets for every entry.
-  std::vector<std::uint32_t> start(n + 1, 0);
-  for (const Triangle& tri : patch.triangles) {
-    for (int m = 0; m < 3; ++m) ++start[tri[m] + 1];
-  }
-  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> corners(start[n]);  // 3 t + m: vertex tri[m] of triangle t
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      for (std::uint32_t m = 0; m < 3; ++m) corners[fill[patch.triangles[t][m]]++] = 3 * t + m;
-    }
-  }
-  // Written into the matrix's own arrays, sized for a disc (n + 2E = n + 3F + boundary
-  // edges entries; anything else grows them).
-  Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  auto& data = laplacian.data();
-  data.reserve(static_cast<Eigen::Index>(n + 3 * nt + patch.boundary.size()));
-  int* outer = laplacian.outerIndexPtr();
-  outer[0] = 0;
-  std::vector<std::pair<std::uint32_t, double>> column;
-  for (std::uint32_t c = 0; c < n; ++c) {
-    column.clear();
-    for (std::uint32_t s = start[c]; s < start[c + 1]; ++s) {
-      const std::uint32_t t = corners[s] / 3, m = corners[s] % 3;
-      const Triangle& tri = patch.triangles[t];
-      // Edge (m, m+2) is opposite corner m+1, edge (m, m+1) opposite corner m+2.
-      const std::uint32_t k1 = (m + 1) % 3, k2 = (m + 2) % 3;
-      column.emplace_back(tri[k2], -weight[t][k1]);
-      column.emplace_back(tri[k1], -weight[t][k2]);
-    }
-    // Stable insertion sort by row: equal rows keep triangle order.
-    for (std::size_t i = 1; i < column.size(); ++i) {
-      const auto x = column[i];
-      std::size_t j = i;
-      for (; j > 0 && column[j - 1].first > x.first; --j) column[j] = column[j - 1];
-      column[j] = x;
-    }
-    bool diagonal_done = false;
-    for (std::size_t i = 0; i < column.size(); ++i) {
-      const std::uint32_t row = column[i].first;
-      if (!diagonal_done && row > c) {
-        data.append(diagonal[c], c);
-        diagonal_done = true;
-      }
-      if (i > 0 && column[i - 1].first == row) {
-        data.value(data.size() - 1) += column[i].second;
-      } else {
-        data.append(column[i].second, row);
-      }
-    }
-    if (!diagonal_done) data.append(diagonal[c], c);
-    outer[c + 1] = static_cast<int>(data.size());
-  }
-  return laplacian;
+  // Column c: its diagonal, and two off-diagonal entries per triangle of its star, which
+  // lists the triangles in index order, so an interior edge's two values are summed in
+  // triangle order: the doubles setFromTriplets gave (uv_patch_test compares bit for bit).
+  const VertexStars stars = vertex_stars(patch);
+  return by_columns(
+      n, 2 * disc_lower_entries(patch) - n,
+      [&](std::uint32_t c, std::vector<std::pair<std::uint32_t, double>>& entries) {
+        entries.emplace_back(c, diagonal[c]);
+        for (std::uint32_t k = stars.offset[c]; k < stars.offset[c + 1]; ++k) {
+          const std::uint32_t t = stars.triangles[k];
+          const Triangle& tri = patch.triangles[t];
+          // Edge (m, m+2) is opposite corner m+1, edge (m, m+1) opposite corner m+2.
+          const int m = corner_of(tri, c);
+          const int k1 = (m + 1) % 3, k2 = (m + 2) % 3;
+          entries.emplace_back(tri[k2], -weight[t][k1]);
+          entries.emplace_back(tri[k1], -weight[t][k2]);
+        }
+      },
+      [](double sum, double value) { return sum + value; });
 }
 
 std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t) {
@@ -486,7 +448,7 @@ std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, 
       ring.clear();
       for (std::uint32_t k = stars.offset[v]; k < stars.offset[v + 1]; ++k) {
         const Triangle& t = patch.triangles[stars.triangles[k]];
-        const int at = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+        const int at = corner_of(t, v);
         ring.emplace_back(uv[t[(at + 1) % 3]], uv[t[(at + 2) % 3]]);
       }
       const auto [p, t] = max_min_area_point(ring);
