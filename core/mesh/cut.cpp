@@ -56,19 +56,32 @@ Error slit_error(const HalfedgeMesh& mesh, std::size_t e) {
                     {static_cast<std::uint32_t>(e)});
 }
 
+// Per vertex, the cut edges at it.
+std::vector<std::uint32_t> cut_degrees(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut) {
+  std::vector<std::uint32_t> degree(mesh.num_vertices(), 0);
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
+    if (!is_cut[e]) continue;
+    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
+    ++degree[mesh.tail(a).index()];
+    ++degree[mesh.head(a).index()];
+  }
+  return degree;
+}
+
 // An interior cut edge both of whose ends keep a single wedge (a slit between two vertices
 // touching no other cut) would be glued shut again: a two-edge boundary loop is not a
-// simplicial mesh. Reported instead of silently leaving the edge closed.
-Status check_no_slit(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut, detail::UnionFind& wedges) {
+// simplicial mesh. Reported instead of silently leaving the edge closed. The builder gives
+// every vertex one cycle or one fan of corners, so an end keeps a single wedge exactly when
+// it is an interior vertex on no other cut edge.
+Status check_no_slit(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut,
+                     const std::vector<std::uint32_t>& cut_degree) {
+  auto single_wedge = [&](VertexId v) { return !mesh.is_boundary(v) && cut_degree[v.index()] == 1; };
   for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
     if (!is_cut[e]) continue;
     const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
     const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
     if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
-    if (wedges.find(a.value()) == wedges.find(mesh.next(b).value()) &&
-        wedges.find(b.value()) == wedges.find(mesh.next(a).value())) {
-      return slit_error(mesh, e);
-    }
+    if (single_wedge(mesh.tail(a)) && single_wedge(mesh.head(a))) return slit_error(mesh, e);
   }
   return Ok{};
 }
@@ -77,8 +90,8 @@ Status check_no_slit(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& 
 
 Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId> edges) {
   SEAM_TRY(const std::vector<std::uint8_t> is_cut, cut_flags(mesh, edges));
+  if (auto slit = check_no_slit(mesh, is_cut, cut_degrees(mesh, is_cut)); !slit.ok()) return slit.take_error();
   detail::UnionFind wedges = corner_wedges(mesh, is_cut);
-  if (auto slit = check_no_slit(mesh, is_cut, wedges); !slit.ok()) return slit.take_error();
   const std::size_t nh = mesh.num_halfedges();
 
   // Numbering: the wedge met first around v (counter-clockwise from vertex_halfedge(v))
@@ -155,31 +168,15 @@ Status check_is_disc(const HalfedgeMesh& mesh) {
 // corners between cut or boundary edges, counted without a union-find over corners (which
 // was half the time at 1.25M faces): each wedge that is a run has one last corner (the one
 // whose outgoing edge is cut or has the boundary beyond it), and an interior vertex with no
-// cut edge is one more wedge, a closed cycle. A cut edge is a slit exactly when both ends
-// are interior vertices on no other cut edge.
+// cut edge is one more wedge, a closed cycle.
 Status check_cut_is_disc(const HalfedgeMesh& mesh, std::span<const EdgeId> edges) {
   const std::size_t ne = mesh.num_edges();
   const std::size_t nh = mesh.num_halfedges();
   const std::size_t nf = mesh.num_faces();
   const std::size_t nv = mesh.num_vertices();
   SEAM_TRY(const std::vector<std::uint8_t> is_cut, cut_flags(mesh, edges));
-  std::vector<std::uint32_t> cut_degree(nv, 0);
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (!is_cut[e]) continue;
-    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
-    ++cut_degree[mesh.tail(a).index()];
-    ++cut_degree[mesh.head(a).index()];
-  }
-  auto single_wedge = [&](VertexId v) { return !mesh.is_boundary(v) && cut_degree[v.index()] == 1; };
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (!is_cut[e]) continue;
-    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
-    const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
-    if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
-    if (single_wedge(mesh.tail(a)) && single_wedge(mesh.head(a))) {
-      return slit_error(mesh, e);
-    }
-  }
+  const std::vector<std::uint32_t> cut_degree = cut_degrees(mesh, is_cut);
+  if (auto slit = check_no_slit(mesh, is_cut, cut_degree); !slit.ok()) return slit;
   // Face components across uncut interior edges.
   detail::UnionFind parts(nf);
   for (std::size_t e = 0; e < ne; ++e) {
