@@ -5,7 +5,6 @@
 #pragma once
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -72,15 +71,11 @@ class LazyHeap {
  private:
   static constexpr std::size_t kArity = 4;
   // (key, vertex) as one 128-bit integer whose unsigned order is the order by key, then
-  // vertex (Entry's operator<, without its branches): a double's bits with the sign bit
-  // flipped (non-negative keys) or all bits flipped (negative ones) order as the double does;
-  // + 0.0 turns a -0.0 key into +0.0.
+  // vertex (Entry's operator<, without its branches; ordered_bits, indexed_heap.h).
   __extension__ typedef unsigned __int128 Packed;
   static Packed pack(double key, std::uint32_t v) { return (Packed{ordered_bits(key)} << 32) | v; }
   static Entry unpack(Packed p) {
-    const auto u = static_cast<std::uint64_t>(p >> 32);
-    const std::uint64_t bits = (u >> 63) ? u ^ (std::uint64_t{1} << 63) : ~u;
-    return {std::bit_cast<double>(bits), static_cast<std::uint32_t>(p)};
+    return {from_ordered_bits(static_cast<std::uint64_t>(p >> 32)), static_cast<std::uint32_t>(p)};
   }
 
   // Places `entry` at hole i or above it.

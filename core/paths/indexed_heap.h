@@ -15,6 +15,10 @@ inline std::uint64_t ordered_bits(double key) {
   const std::uint64_t u = std::bit_cast<std::uint64_t>(key + 0.0);
   return u ^ ((u >> 63) ? ~std::uint64_t{0} : (std::uint64_t{1} << 63));
 }
+/// The key whose ordered_bits are `u`.
+inline double from_ordered_bits(std::uint64_t u) {
+  return std::bit_cast<double>((u >> 63) ? u ^ (std::uint64_t{1} << 63) : ~u);
+}
 
 // Keyed by an external distance array that the caller owns and updates before calling
 // push_or_decrease. Compared with std::priority_queue and lazy deletion it holds each vertex
