@@ -378,49 +378,126 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
   return result;
 }
 
+namespace {
+
+// The shortest-path heuristic's searches as one growing search. After the first path (from
+// terminals[0], which then becomes a leaf and no source), the sources are the tree's
+// non-terminal vertices, and every later join only adds sources at distance 0: distances
+// only shrink, so the search goes on from where it stopped instead of starting again. A
+// vertex is expanded again only when a new source brings it closer; the settling order
+// within a join is (distance, vertex), the order of a fresh search, so each join reaches the
+// terminal a fresh search from the whole tree would (exact distances; a path may differ only
+// between equally long ones).
+class NearestTerminalGrowth {
+ public:
+  NearestTerminalGrowth(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const VertexId> terminals)
+      : mesh_(mesh),
+        graph_(graph),
+        dist_(mesh.num_vertices(), kUnreached),
+        parent_(mesh.num_vertices()),
+        terminal_(mesh.num_vertices(), 0),
+        in_tree_(mesh.num_vertices(), 0) {
+    for (VertexId t : terminals) terminal_[t.index()] = 1;
+  }
+
+  // Makes v (a vertex now on the tree) a source at distance 0.
+  void add_source(VertexId v) {
+    dist_[v.index()] = 0.0;
+    parent_[v.index()] = HalfedgeId();
+    heap_.push(0.0, v.value());
+  }
+  // Forgets every distance (after the first path, whose start stops being a source).
+  void restart() {
+    std::fill(dist_.begin(), dist_.end(), kUnreached);
+    heap_.clear();
+  }
+  void mark_in_tree(VertexId v) { in_tree_[v.index()] = 1; }
+  bool in_tree(VertexId v) const { return in_tree_[v.index()] != 0; }
+  bool is_terminal(VertexId v) const { return terminal_[v.index()] != 0; }
+
+  // Runs until the nearest terminal not on the tree is settled (invalid: none is reachable,
+  // or `work` reached `max_work`). `expand_terminal` may expand one terminal (the first source).
+  Result<VertexId> grow(VertexId expand_terminal, std::size_t& work, std::size_t max_work, const CancelToken& cancel) {
+    VertexId reached;
+    Visitor visitor{*this, expand_terminal.valid() ? expand_terminal.value() : kNone, reached, work, max_work};
+    if (auto st = run_dijkstra(graph_, heap_, visitor, cancel, "nearest-terminal tree"); !st.ok()) {
+      return st.take_error();
+    }
+    return work >= max_work ? VertexId() : reached;
+  }
+  // The path from the tree to `v`, in order (v's parents back to a source).
+  std::vector<HalfedgeId> path_to(VertexId v) const {
+    std::vector<HalfedgeId> path;
+    for (HalfedgeId h = parent_[v.index()]; h.valid(); h = parent_[mesh_.tail(h).index()]) path.push_back(h);
+    std::reverse(path.begin(), path.end());
+    return path;
+  }
+
+ private:
+  static constexpr double kUnreached = std::numeric_limits<double>::infinity();
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+  struct Visitor {
+    NearestTerminalGrowth& g;
+    std::uint32_t expand_terminal;
+    VertexId& reached;
+    std::size_t& work;
+    std::size_t max_work;
+
+    SettleAction settle(std::uint32_t v, double key) {
+      if (key > g.dist_[v]) return SettleAction::kSkip;  // stale
+      if (g.terminal_[v] && v != expand_terminal) {
+        if (g.in_tree_[v]) return SettleAction::kSkip;  // a joined terminal stays a leaf
+        reached = VertexId(v);
+        return SettleAction::kStop;  // the nearest terminal not yet joined
+      }
+      return ++work >= max_work ? SettleAction::kStop : SettleAction::kExpand;
+    }
+    double distance(std::uint32_t v) const { return g.dist_[v]; }
+    static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
+    bool enters(std::uint32_t w) const { return !(g.terminal_[w] && g.in_tree_[w]); }
+    void relax(std::uint32_t, std::uint32_t w, double nd, std::uint32_t slot) {
+      if (nd < g.dist_[w]) {
+        g.dist_[w] = nd;
+        g.parent_[w] = g.graph_.halfedge[slot];
+        g.heap_.push(nd, w);
+      }
+    }
+  };
+
+  const HalfedgeMesh& mesh_;
+  const EdgeGraph& graph_;
+  std::vector<double> dist_;
+  std::vector<HalfedgeId> parent_;
+  std::vector<std::uint8_t> terminal_;
+  std::vector<std::uint8_t> in_tree_;
+  LazyHeap heap_;
+};
+
+}  // namespace
+
 Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                                   std::span<const VertexId> terminals, const CancelToken& cancel,
                                                   std::size_t max_settled) {
   if (terminals.size() < 2) return make_error(ErrorCode::kInvalidArgument, "needs at least two terminals");
-  std::size_t work = 0;
-  PathSearch search(graph);
-  std::vector<std::uint8_t> in_tree(mesh.num_vertices(), 0), is_terminal(mesh.num_vertices(), 0);
-  for (VertexId t : terminals) is_terminal[t.index()] = 1;
-  std::vector<VertexId> tree_vertices = {terminals[0]};
-  in_tree[terminals[0].index()] = 1;
+  NearestTerminalGrowth growth(mesh, graph, terminals);
+  growth.mark_in_tree(terminals[0]);
+  growth.add_source(terminals[0]);
   std::vector<EdgeId> edges;
-  std::vector<VertexId> targets;
+  std::size_t work = 0;
   for (std::size_t joined = 1; joined < terminals.size(); ++joined) {
-    search.reset();
-    search.clear_marks();
-    targets.clear();
-    for (VertexId t : terminals) {
-      if (in_tree[t.index()]) {
-        if (!edges.empty()) search.forbid(t);  // a joined terminal stays a leaf
-      } else {
-        search.block(t);
-        targets.push_back(t);
-      }
-    }
-    for (VertexId v : tree_vertices) {
-      if (edges.empty() || !is_terminal[v.index()]) search.add_source(v);
-    }
-    if (work >= max_settled) return std::vector<EdgeId>{};
-    if (auto st = search.run_to_nearest(targets, cancel, PathSearch::kUnreached, max_settled - work); !st.ok()) {
-      return st.take_error();
-    }
-    work += search.settled().size();
-    if (work >= max_settled) return std::vector<EdgeId>{};  // out of budget (or exactly at it)
-    const VertexId reached = search.settled().empty() ? VertexId() : search.settled().back();
-    if (!reached.valid() || !is_terminal[reached.index()] || in_tree[reached.index()]) {
-      return make_error(ErrorCode::kInvalidArgument, "a terminal cannot be joined as a leaf");
-    }
-    for (HalfedgeId h : search.path_to(mesh, reached)) {
+    SEAM_TRY(VertexId reached, growth.grow(joined == 1 ? terminals[0] : VertexId(), work, max_settled, cancel));
+    if (work >= max_settled) return std::vector<EdgeId>{};  // out of budget
+    if (!reached.valid()) return make_error(ErrorCode::kInvalidArgument, "a terminal cannot be joined as a leaf");
+    const std::vector<HalfedgeId> path = growth.path_to(reached);
+    // After the first path terminals[0] is a leaf: the search starts again from that path.
+    if (joined == 1) growth.restart();
+    for (HalfedgeId h : path) {
       edges.push_back(HalfedgeMesh::edge(h));
-      const VertexId w = mesh.head(h);
-      if (!in_tree[w.index()]) {
-        in_tree[w.index()] = 1;
-        tree_vertices.push_back(w);
+      for (VertexId w : {mesh.tail(h), mesh.head(h)}) {
+        if (growth.in_tree(w)) continue;
+        growth.mark_in_tree(w);
+        if (!growth.is_terminal(w)) growth.add_source(w);
       }
     }
   }

@@ -74,9 +74,13 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
 /// the full-component constraint. From terminals[0], repeatedly joins the nearest terminal
 /// not yet in the tree by a shortest path from a non-terminal tree vertex (from the first
 /// terminal itself for the first path) that passes through no terminal.
-/// Gives up, returning no edges, once its searches have settled `max_settled` vertices.
+/// The joins share one growing search: a join adds its path's vertices as sources and the
+/// search goes on, expanding again only the vertices they bring closer (a fresh search per
+/// join gives the same tree, tests/core/improve_test.cpp; at 78k faces and 32 terminals
+/// 74 -> 7 ms). Gives up, returning no edges, once it has expanded `max_settled` vertices.
 /// Errors: kInvalidArgument (fewer than two terminals, or a terminal that cannot be joined
-/// that way, e.g. two adjacent terminals first), kCancelled. O(k E log V).
+/// that way, e.g. two adjacent terminals first), kCancelled. O(k E log V) at worst; about
+/// O(E log V) when the tree spreads evenly.
 Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
                                                   std::span<const VertexId> terminals,
                                                   const CancelToken& cancel = CancelToken::none(),

@@ -1,19 +1,22 @@
+#include "core/seam/improve.h"
+
 #include <doctest/doctest.h>
 
 #include <functional>
+#include <limits>
 #include <map>
+#include <queue>
 #include <random>
 #include <set>
 
+#include "core/paths/steiner.h"
 #include "core/seam/baselines.h"
-#include "core/seam/improve.h"
 #include "core/seam/skeleton.h"
 #include "core/seam/straighten.h"
-#include "core/paths/steiner.h"
 #include "fixtures.h"
-#include "tree_oracle.h"
 #include "skeleton_fixtures.h"
 #include "test_data.h"
+#include "tree_oracle.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
@@ -143,4 +146,85 @@ TEST_CASE("nearest_terminal_tree: a full component on random sets, shortened by 
   }
   const std::vector<VertexId> one = {VertexId(0u)};
   CHECK(nearest_terminal_tree(mesh, graph, one).error().code == ErrorCode::kInvalidArgument);
+}
+
+namespace {
+
+// The shortest-path heuristic as its definition reads, one fresh search per join (the oracle
+// for the growing search of nearest_terminal_tree): from terminals[0] first, then from every
+// non-terminal vertex of the tree; no path passes through a terminal, and the nearest terminal
+// not yet joined (smallest distance, then smallest id) is joined by its shortest path.
+std::vector<EdgeId> fresh_search_nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                                       std::span<const VertexId> terminals) {
+  const std::size_t n = mesh.num_vertices();
+  std::vector<std::uint8_t> terminal(n, 0), in_tree(n, 0);
+  for (VertexId t : terminals) terminal[t.index()] = 1;
+  std::vector<VertexId> tree = {terminals[0]};
+  in_tree[terminals[0].index()] = 1;
+  std::vector<EdgeId> edges;
+  for (std::size_t joined = 1; joined < terminals.size(); ++joined) {
+    std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+    std::vector<HalfedgeId> parent(n);
+    using Entry = std::pair<double, std::uint32_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    for (VertexId v : tree) {
+      if (joined > 1 && terminal[v.index()]) continue;
+      dist[v.index()] = 0.0;
+      queue.push({0.0, v.value()});
+    }
+    VertexId reached;
+    while (!queue.empty() && !reached.valid()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > dist[v]) continue;
+      if (terminal[v] && !(joined == 1 && v == terminals[0].value())) {
+        if (!in_tree[v]) reached = VertexId(v);
+        continue;
+      }
+      for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
+        const std::uint32_t w = graph.head[slot].value();
+        if (terminal[w] && in_tree[w]) continue;
+        if (d + graph.weight[slot] < dist[w]) {
+          dist[w] = d + graph.weight[slot];
+          parent[w] = graph.halfedge[slot];
+          queue.push({dist[w], w});
+        }
+      }
+    }
+    REQUIRE(reached.valid());
+    for (HalfedgeId h = parent[reached.index()]; h.valid(); h = parent[mesh.tail(h).index()]) {
+      edges.push_back(HalfedgeMesh::edge(h));
+      for (VertexId w : {mesh.tail(h), mesh.head(h)}) {
+        if (!in_tree[w.index()]) tree.push_back(w);
+        in_tree[w.index()] = 1;
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  return edges;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "nearest_terminal_tree: the growing search joins what a fresh search per join joins, and gives up at its budget") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
+  const EdgeGraph graph = build_edge_graph(mesh);
+  std::mt19937 rng(23);
+  for (std::size_t k : {2u, 3u, 5u, 8u, 13u, 21u}) {
+    std::vector<VertexId> terminals;
+    while (terminals.size() < k) {
+      const VertexId v(static_cast<std::uint32_t>(rng() % mesh.num_vertices()));
+      if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
+    }
+    CAPTURE(k);
+    auto grown = nearest_terminal_tree(mesh, graph, terminals);
+    REQUIRE(grown.ok());
+    CHECK(*grown == fresh_search_nearest_terminal_tree(mesh, graph, terminals));
+    CHECK(check_full_component_tree(mesh, *grown, terminals).ok());
+    // A budget below what the first join settles: no tree.
+    auto starved = nearest_terminal_tree(mesh, graph, terminals, CancelToken::none(), 3);
+    REQUIRE(starved.ok());
+    CHECK(starved->empty());
+  }
 }
