@@ -31,9 +31,9 @@ Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeI
   for (auto it = edges.begin(); it != edges.end(); ++it) {
     const EdgeId e = *it;
     if (it == bad) return make_error(ErrorCode::kTopologyViolation, "seam edge out of range", {e.value()});
-    const HalfedgeId h = HalfedgeMesh::halfedge(e);
-    const std::uint32_t a = tree.index(mesh.tail(h));
-    const std::uint32_t b = tree.index(mesh.head(h));
+    const auto i = static_cast<std::size_t>(it - edges.begin());
+    const std::uint32_t a = tree.ends[2 * i];
+    const std::uint32_t b = tree.ends[2 * i + 1];
     ++degree[a];
     ++degree[b];
     if (!uf.unite(a, b)) {
@@ -243,68 +243,75 @@ Result<std::vector<EdgeId>> join_to_first_terminal(const HalfedgeMesh& mesh, con
 }
 
 // The tree as nodes and branches, before inner terminals are made leaves; `node_of` gives
-// each node's index per vertex (-1: not a node).
+// each tree vertex's node index (by `tree`'s index; -1: not a node).
 struct WalkedTopology {
   TreeTopology topology;
+  TreeVertices tree;
   std::vector<std::int32_t> node_of;
 };
 
 // Nodes: terminals first, then vertices of degree >= 3; branches are walked between them.
-// The tree's adjacency is indexed by its own vertices (sorted), not by the mesh's.
+// The tree's adjacency is indexed by its own vertices (sorted), not by the mesh's: each
+// vertex's out-going half-edges, with their edge's place in `tree`, in half-edge order.
 WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> tree,
                              std::span<const VertexId> terminals) {
-  const std::size_t nv = mesh.num_vertices();
   const std::size_t k = terminals.size();
-  const TreeVertices touched(mesh, tree);
-  auto local = [&](VertexId v) { return touched.index(v); };
-  std::vector<std::vector<HalfedgeId>> out(touched.size());
-  for (EdgeId e : tree) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(e);
-    out[local(mesh.tail(h))].push_back(h);
-    out[local(mesh.head(h))].push_back(HalfedgeMesh::twin(h));
+  WalkedTopology walked{TreeTopology{}, TreeVertices(mesh, tree), {}};
+  const TreeVertices& index = walked.tree;
+  const std::size_t n = index.size();
+  struct Out {
+    HalfedgeId h;
+    std::uint32_t edge;  // place in `tree`
+    bool operator<(const Out& o) const { return h < o.h; }
+  };
+  std::vector<std::uint32_t> offsets(n + 1, 0);
+  for (std::uint32_t end : index.ends) ++offsets[end + 1];
+  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+  std::vector<Out> out(index.ends.size());
+  {
+    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (std::uint32_t i = 0; i < tree.size(); ++i) {
+      const HalfedgeId h = HalfedgeMesh::halfedge(tree[i]);
+      out[fill[index.ends[2 * i]]++] = {h, i};
+      out[fill[index.ends[2 * i + 1]]++] = {HalfedgeMesh::twin(h), i};
+    }
   }
-  WalkedTopology walked;
+  for (std::size_t v = 0; v < n; ++v) std::sort(out.begin() + offsets[v], out.begin() + offsets[v + 1]);
+  // The tree index of the vertex `o` leads to.
+  auto head_of = [&](const Out& o) { return index.ends[2 * o.edge + (o.h == HalfedgeMesh::halfedge(tree[o.edge]))]; };
   TreeTopology& topo = walked.topology;
   std::vector<std::int32_t>& node_of = walked.node_of;
   topo.num_terminals = k;
-  node_of.assign(nv, -1);
+  node_of.assign(n, -1);
   for (std::size_t i = 0; i < k; ++i) {
     topo.nodes.push_back(terminals[i]);
-    node_of[terminals[i].index()] = static_cast<std::int32_t>(i);
+    if (index.contains(terminals[i])) node_of[index.index(terminals[i])] = static_cast<std::int32_t>(i);
   }
-  for (std::size_t i = 0; i < touched.size(); ++i) {
-    const VertexId v = touched.vertices[i];
-    if (node_of[v.index()] < 0 && out[i].size() >= 3) {
-      node_of[v.index()] = static_cast<std::int32_t>(topo.nodes.size());
-      topo.nodes.push_back(v);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (node_of[v] < 0 && offsets[v + 1] - offsets[v] >= 3) {
+      node_of[v] = static_cast<std::int32_t>(topo.nodes.size());
+      topo.nodes.push_back(index.vertices[v]);
     }
   }
-  // Walked edges, marked by their place among the tree's edges (sorted).
-  std::vector<EdgeId> edges(tree.begin(), tree.end());
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::uint8_t> used(edges.size(), 0);
-  auto used_mark = [&](HalfedgeId h) -> std::uint8_t& {
-    const EdgeId e = HalfedgeMesh::edge(h);
-    return used[static_cast<std::size_t>(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin())];
-  };
+  std::vector<std::uint8_t> used(tree.size(), 0);  // walked edges, by place in `tree`
   for (std::uint32_t a = 0; a < topo.nodes.size(); ++a) {
-    if (!touched.contains(topo.nodes[a])) continue;  // a terminal the tree misses: no branch
-    auto outgoing = out[local(topo.nodes[a])];
-    std::sort(outgoing.begin(), outgoing.end());
-    for (HalfedgeId start : outgoing) {
-      if (used_mark(start)) continue;
+    if (!index.contains(topo.nodes[a])) continue;  // a terminal the tree misses: no branch
+    const std::uint32_t from = index.index(topo.nodes[a]);
+    for (std::uint32_t slot = offsets[from]; slot < offsets[from + 1]; ++slot) {
+      if (used[out[slot].edge]) continue;
       std::vector<HalfedgeId> path;
-      HalfedgeId h = start;
+      Out step = out[slot];
+      std::uint32_t w;
       while (true) {
-        used_mark(h) = 1;
-        path.push_back(h);
-        const VertexId w = mesh.head(h);
-        if (node_of[w.index()] >= 0) break;
-        const auto& hs = out[local(w)];
-        SEAM_ASSERT(hs.size() == 2);
-        h = hs[0] == HalfedgeMesh::twin(h) ? hs[1] : hs[0];
+        used[step.edge] = 1;
+        path.push_back(step.h);
+        w = head_of(step);
+        if (node_of[w] >= 0) break;
+        SEAM_ASSERT(offsets[w + 1] - offsets[w] == 2);
+        const Out& first = out[offsets[w]];
+        step = first.edge == step.edge ? out[offsets[w] + 1] : first;
       }
-      topo.links.push_back({a, static_cast<std::uint32_t>(node_of[mesh.head(path.back()).index()])});
+      topo.links.push_back({a, static_cast<std::uint32_t>(node_of[w])});
       topo.paths.push_back(std::move(path));
     }
   }
@@ -346,13 +353,14 @@ Result<TreeTopology> hang_inner_terminals(const HalfedgeMesh& mesh, std::span<co
     }
     const std::size_t l0 = incident[chosen];
     const VertexId u = mesh.head(topo.paths[l0].front());
+    const std::uint32_t at = walked.tree.index(u);
     std::uint32_t s;
-    if (node_of[u.index()] >= 0) {
-      s = static_cast<std::uint32_t>(node_of[u.index()]);
+    if (node_of[at] >= 0) {
+      s = static_cast<std::uint32_t>(node_of[at]);
     } else {
       s = static_cast<std::uint32_t>(topo.nodes.size());
       topo.nodes.push_back(u);
-      node_of[u.index()] = static_cast<std::int32_t>(s);
+      node_of[at] = static_cast<std::int32_t>(s);
       std::vector<HalfedgeId> rest(topo.paths[l0].begin() + 1, topo.paths[l0].end());
       topo.links.push_back({s, topo.links[l0][1]});
       topo.paths.push_back(std::move(rest));

@@ -4,12 +4,15 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <numeric>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/radix_sort.h"
 
 namespace seam::core::detail {
 
@@ -30,18 +33,29 @@ struct UnionFind {
 };
 
 // The vertices of some edges (and of `extra`), sorted and unique: a compact index for work on
-// a tree that must not cost the mesh's size. O(m log m) to build, O(log m) per lookup.
+// a tree that must not cost the mesh's size. `ends` gives each edge's ends by that index, so
+// walking the tree needs no lookups. O(m) to build (a radix sort of the m ends), O(log m) per
+// lookup by vertex.
 struct TreeVertices {
   std::vector<VertexId> vertices;
+  std::vector<std::uint32_t> ends;  ///< per edge i: ends[2i] indexes its tail, ends[2i + 1] its head
   TreeVertices(const HalfedgeMesh& mesh, std::span<const EdgeId> edges, std::span<const VertexId> extra = {}) {
-    vertices.reserve(2 * edges.size() + extra.size());
+    // (vertex, slot): slots 2i and 2i + 1 are edge i's tail and head, the rest `extra`.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> uses;
+    uses.reserve(2 * edges.size() + extra.size());
     for (EdgeId e : edges) {
-      vertices.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
-      vertices.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
+      const HalfedgeId h = HalfedgeMesh::halfedge(e);
+      uses.emplace_back(mesh.tail(h).value(), static_cast<std::uint32_t>(uses.size()));
+      uses.emplace_back(mesh.head(h).value(), static_cast<std::uint32_t>(uses.size()));
     }
-    vertices.insert(vertices.end(), extra.begin(), extra.end());
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    for (VertexId v : extra) uses.emplace_back(v.value(), static_cast<std::uint32_t>(uses.size()));
+    const auto bits = static_cast<unsigned>(std::bit_width(mesh.num_vertices()));
+    radix_sort(uses, bits, [](const std::pair<std::uint32_t, std::uint32_t>& u) { return u.first; });
+    ends.resize(2 * edges.size());
+    for (const auto& [v, slot] : uses) {
+      if (vertices.empty() || vertices.back().value() != v) vertices.push_back(VertexId(v));
+      if (slot < ends.size()) ends[slot] = static_cast<std::uint32_t>(vertices.size() - 1);
+    }
   }
   std::size_t size() const { return vertices.size(); }
   bool contains(VertexId v) const { return std::binary_search(vertices.begin(), vertices.end(), v); }
@@ -51,36 +65,33 @@ struct TreeVertices {
   }
 };
 
-// Removes non-terminal leaves until none is left. `edges` must form a forest.
+// Removes non-terminal leaves until none is left. `edges` must form a forest. The work is
+// indexed by the forest's own vertices: O(m) for m edges, whatever the mesh's size.
 inline std::vector<EdgeId> prune_dangling(const HalfedgeMesh& mesh, std::vector<EdgeId> edges,
-                                   std::span<const VertexId> terminals) {
-  std::vector<std::uint32_t> degree(mesh.num_vertices(), 0);
-  std::vector<std::uint8_t> is_terminal(mesh.num_vertices(), 0);
-  for (VertexId t : terminals) is_terminal[t.index()] = 1;
-  for (EdgeId e : edges) {
-    ++degree[mesh.tail(HalfedgeMesh::halfedge(e)).index()];
-    ++degree[mesh.head(HalfedgeMesh::halfedge(e)).index()];
+                                          std::span<const VertexId> terminals) {
+  const TreeVertices tree(mesh, edges);
+  const std::size_t n = tree.size();
+  std::vector<std::uint32_t> degree(n, 0);
+  for (std::uint32_t end : tree.ends) ++degree[end];
+  std::vector<std::uint8_t> is_terminal(n, 0);
+  for (VertexId t : terminals) {
+    if (tree.contains(t)) is_terminal[tree.index(t)] = 1;
   }
+  auto dangling = [&](std::uint32_t v) { return degree[v] == 1 && !is_terminal[v]; };
   // Each pass removes the current dangling edges; a long dangling chain needs one pass per
   // edge, so iterate with a worklist of vertices instead.
-  std::vector<std::uint8_t> removed_edge(edges.size(), 0);
-  bool any = false;
-  for (std::size_t v = 0; v < degree.size() && !any; ++v) any = degree[v] == 1 && !is_terminal[v];
-  if (!any) return edges;
-  std::vector<std::uint32_t> first(mesh.num_vertices(), UINT32_MAX);
-  std::vector<std::uint32_t> next_slot(2 * edges.size(), UINT32_MAX);
-  for (std::uint32_t i = 0; i < edges.size(); ++i) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(edges[i]);
-    for (std::uint32_t side = 0; side < 2; ++side) {
-      const std::uint32_t v = side == 0 ? mesh.tail(h).value() : mesh.head(h).value();
-      next_slot[2 * i + side] = first[v];
-      first[v] = 2 * i + side;
-    }
-  }
   std::vector<std::uint32_t> work;
-  for (std::uint32_t v = 0; v < degree.size(); ++v) {
-    if (degree[v] == 1 && !is_terminal[v]) work.push_back(v);
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (dangling(v)) work.push_back(v);
   }
+  if (work.empty()) return edges;
+  // Per vertex its ends (2i + side), newest first.
+  std::vector<std::uint32_t> first(n, UINT32_MAX);
+  std::vector<std::uint32_t> next_slot(tree.ends.size(), UINT32_MAX);
+  for (std::uint32_t s = 0; s < tree.ends.size(); ++s) {
+    next_slot[s] = std::exchange(first[tree.ends[s]], s);
+  }
+  std::vector<std::uint8_t> removed_edge(edges.size(), 0);
   while (!work.empty()) {
     const std::uint32_t v = work.back();
     work.pop_back();
@@ -89,8 +100,7 @@ inline std::vector<EdgeId> prune_dangling(const HalfedgeMesh& mesh, std::vector<
       const std::uint32_t i = s / 2;
       if (removed_edge[i]) continue;
       removed_edge[i] = 1;
-      const HalfedgeId h = HalfedgeMesh::halfedge(edges[i]);
-      const std::uint32_t w = mesh.tail(h).value() == v ? mesh.head(h).value() : mesh.tail(h).value();
+      const std::uint32_t w = tree.ends[s ^ 1u];
       --degree[v];
       if (--degree[w] == 1 && !is_terminal[w]) work.push_back(w);
       break;
