@@ -79,10 +79,14 @@ found before any mesh work. Errors are the HTTP API's {"error": {"code", "messag
 "details"}} on stderr.
 )";
 
-int usage(std::ostream& err, const ApiError& error) {
-  ApiError e = error;
+// A usage mistake: the message says where the usage is.
+ApiError with_usage_hint(ApiError e) {
   e.message += " (seamd seam --help shows the usage)";
-  return cli::fail(err, e, 2);
+  return e;
+}
+
+int usage(std::ostream& err, const ApiError& error) {
+  return cli::fail(err, with_usage_hint(error), 2);
 }
 
 int print_version(std::ostream& out, const CliContext& context) {
@@ -123,101 +127,127 @@ int run_sample(int argc, char** argv, std::ostream& out, std::ostream& err, cons
   return 0;
 }
 
-int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::ostream& err,
-             const CliContext& context) {
-  auto parsed = cli::parse_args(argc, argv,
-                                {{"--mesh", "in"}, {"--out", "out"}, {"--report", "report"}, {"--params", "params"},
-                                 {"--threads", "threads"}});
-  if (!parsed.ok()) return usage(err, parsed.error());
-  cli::ParsedArgs& args = *parsed;
-  if (args.help) {
-    out << kUsage;
-    return 0;
-  }
-  if (args.version) return print_version(out, context);
+// Takes IN and OUT from the positionals (refusing one that a flag set too) and returns IN,
+// which is required.
+ApiResult<std::string> seam_input(cli::ParsedArgs& args) {
   if (args.positional.size() > 2) {
-    return usage(err, cli::usage_error("out", "seam takes IN and at most one OUT; extra argument " +
-                                                  args.positional[2]));
+    return with_usage_hint(
+        cli::usage_error("out", "seam takes IN and at most one OUT; extra argument " + args.positional[2]));
   }
   if (!args.positional.empty()) {
-    if (auto e = cli::set_positional(args, "in", args.positional[0], "IN")) return usage(err, *e);
+    if (auto e = cli::set_positional(args, "in", args.positional[0], "IN")) return with_usage_hint(*e);
   }
   if (args.positional.size() == 2) {
-    if (auto e = cli::set_positional(args, "out", args.positional[1], "OUT")) return usage(err, *e);
+    if (auto e = cli::set_positional(args, "out", args.positional[1], "OUT")) return with_usage_hint(*e);
   }
-  if (args.own.count("in") == 0) return usage(err, cli::usage_error("in", "seam needs an input: seamd seam IN [OUT]"));
-  const std::string in_path = args.own["in"];
-  // The process's settings, before anything is read: a second start must find stdin (IN `-`,
-  // `--params @/dev/stdin`) and every file as the first one did.
-  if (context.reexec_argv != nullptr) {
-    std::error_code ec;
-    const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
-    if (!ec && size >= kHugePageInputBytes) {
-      reexec_with(ProcessEnv{}, context.reexec_argv);
-    } else {
-      keep_freed_memory_for_short_job();  // not worth a second start
-    }
-    core::use_single_threaded_solvers();  // before the job starts threads of its own
+  if (args.own.count("in") == 0) {
+    return with_usage_hint(cli::usage_error("in", "seam needs an input: seamd seam IN [OUT]"));
   }
+  return args.own["in"];
+}
 
-  if (in_path == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
-    return usage(err, cli::usage_error("params", "stdin cannot be both IN and --params @-"));
+// The process's settings, before anything is read: a second start must find stdin (IN `-`,
+// `--params @/dev/stdin`) and every file as the first one did.
+void set_up_process(const std::string& in_path, char** reexec_argv) {
+  std::error_code ec;
+  const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
+  if (!ec && size >= kHugePageInputBytes) {
+    reexec_with(ProcessEnv{}, reexec_argv);
+  } else {
+    keep_freed_memory_for_short_job();  // not worth a second start
   }
-  json merged;
-  auto params = cli::build_params(args, merged, in);
-  if (!params.ok()) return usage(err, params.error());
-  PipelineLimits limits;
-  limits.threads = context.cores;
-  if (args.own.count("threads") != 0) {
-    auto threads = cli::positive_count("threads", args.own["threads"]);
-    if (!threads.ok()) return usage(err, threads.error());
-    limits.threads = *threads;
-  }
+  core::use_single_threaded_solvers();  // before the job starts threads of its own
+}
 
-  // Every output is checked before the input is read.
-  std::optional<cli::OutputTarget> target, report;
+// OUT and --report FILE, when given.
+struct SeamOutputs {
+  std::optional<cli::OutputTarget> target;
+  std::optional<cli::OutputTarget> report;
+};
+
+// Errors: check_output's, OUT's before the report's.
+ApiResult<SeamOutputs> check_seam_outputs(cli::ParsedArgs& args) {
+  SeamOutputs outputs;
   if (args.own.count("out") != 0) {
     auto t = cli::check_output(args.own["out"], "out");
-    if (!t.ok()) return cli::fail(err, t.error(), 2);
-    target = *t;
+    if (!t.ok()) return t.error();
+    outputs.target = *t;
   }
   if (args.own.count("report") != 0) {
     auto r = cli::check_output(args.own["report"], "report");
-    if (!r.ok()) return cli::fail(err, r.error(), 2);
-    report = *r;
+    if (!r.ok()) return r.error();
+    outputs.report = *r;
   }
+  return outputs;
+}
+
+// `seamd seam` as asked, with every check done before the input is read.
+struct SeamJob {
+  std::string in_path;
+  SeamParams params;
+  PipelineLimits limits;
+  SeamOutputs outputs;
+};
+
+// The parameters, the limits and the outputs, checked in that order.
+ApiResult<SeamJob> plan_seam(cli::ParsedArgs& args, const std::string& in_path, const CliContext& context,
+                             std::istream& in) {
+  if (in_path == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
+    return with_usage_hint(cli::usage_error("params", "stdin cannot be both IN and --params @-"));
+  }
+  SeamJob job;
+  job.in_path = in_path;
+  json merged;
+  auto params = cli::build_params(args, merged, in);
+  if (!params.ok()) return with_usage_hint(params.error());
+  job.params = std::move(params).value();
+  job.limits.threads = context.cores;
+  if (args.own.count("threads") != 0) {
+    auto threads = cli::positive_count("threads", args.own["threads"]);
+    if (!threads.ok()) return with_usage_hint(threads.error());
+    job.limits.threads = *threads;
+  }
+
+  // Every output is checked before the input is read.
+  SEAM_TRY(job.outputs, check_seam_outputs(args));
+  const auto& [target, report] = job.outputs;
   // The HTTP default is a JSON body; on the command line OUT is a GLB unless asked.
-  if (!merged.contains("output") || !target) params->output = OutputFormat::kGlb;
+  if (!merged.contains("output") || !target) job.params.output = OutputFormat::kGlb;
   if (target && target->to_stdout) {
     if (report && report->to_stdout) {
-      return usage(err, cli::usage_error("report", "OUT and --report cannot both be stdout"));
+      return with_usage_hint(cli::usage_error("report", "OUT and --report cannot both be stdout"));
     }
-    if (context.stdout_is_terminal && params->output == OutputFormat::kGlb) {
-      return usage(err, cli::usage_error("out", "refusing to write a binary GLB to a terminal; redirect stdout "
-                                                "or give an OUT file"));
+    if (context.stdout_is_terminal && job.params.output == OutputFormat::kGlb) {
+      return with_usage_hint(cli::usage_error("out",
+                                              "refusing to write a binary GLB to a terminal; redirect stdout "
+                                              "or give an OUT file"));
     }
   }
-  auto bytes = cli::read_input(in_path, in);
-  if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);
-  auto asset = cli::load_asset(std::move(bytes).value(), in_path);
-  if (!asset.ok()) return cli::fail(err, asset.error(), 1);
-  auto result = run_seam_pipeline(asset->bytes, asset->kind, *params, limits, core::CancelToken::none());
-  if (!result.ok()) return cli::fail(err, result.error(), 1);
+  return job;
+}
 
-  json summary = result->body;
+// OUT's bytes: on stdout, or through a temporary file renamed over OUT.
+std::optional<ApiError> write_target(const cli::OutputTarget& target, const std::string& bytes, std::ostream& out) {
+  if (!target.to_stdout) return cli::write_output(target, bytes);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.flush();
+  if (!out) return make_api_error(ApiErrorCode::kInternal, "cannot write to stdout");
+  return std::nullopt;
+}
+
+// Writes OUT (when given), then the summary: to --report FILE, else to stderr when OUT is
+// stdout, else to stdout.
+int write_seam_outputs(const SeamJob& job, PipelineOutput result, const std::string& format, std::ostream& out,
+                       std::ostream& err) {
+  const auto& [target, report] = job.outputs;
+  json summary = result.body;
   summary.erase("asset");
-  summary["input"] = in_path;
-  summary["format"] = asset->format;
+  summary["input"] = job.in_path;
+  summary["format"] = format;
   if (target) {
     const std::string written =
-        params->output == OutputFormat::kJson ? result->body.dump() + "\n" : std::move(result->glb);
-    if (target->to_stdout) {
-      out.write(written.data(), static_cast<std::streamsize>(written.size()));
-      out.flush();
-      if (!out) return cli::fail(err, make_api_error(ApiErrorCode::kInternal, "cannot write to stdout"), 1);
-    } else if (auto e = cli::write_output(*target, written)) {
-      return cli::fail(err, *e, 1);
-    }
+        job.params.output == OutputFormat::kJson ? result.body.dump() + "\n" : std::move(result.glb);
+    if (auto e = write_target(*target, written, out)) return cli::fail(err, *e, 1);
     summary["written"] = target->path;
     summary["bytes"] = written.size();
   }
@@ -230,6 +260,32 @@ int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::os
     out << text;
   }
   return 0;
+}
+
+int run_seam(int argc, char** argv, std::istream& in, std::ostream& out, std::ostream& err, const CliContext& context) {
+  auto parsed = cli::parse_args(
+      argc, argv,
+      {{"--mesh", "in"}, {"--out", "out"}, {"--report", "report"}, {"--params", "params"}, {"--threads", "threads"}});
+  if (!parsed.ok()) return usage(err, parsed.error());
+  cli::ParsedArgs& args = *parsed;
+  if (args.help) {
+    out << kUsage;
+    return 0;
+  }
+  if (args.version) return print_version(out, context);
+  auto in_path = seam_input(args);
+  if (!in_path.ok()) return cli::fail(err, in_path.error(), 2);
+  if (context.reexec_argv != nullptr) set_up_process(*in_path, context.reexec_argv);
+  auto job = plan_seam(args, *in_path, context, in);
+  if (!job.ok()) return cli::fail(err, job.error(), 2);
+
+  auto bytes = cli::read_input(job->in_path, in);
+  if (!bytes.ok()) return cli::fail(err, bytes.error(), 1);
+  auto asset = cli::load_asset(std::move(bytes).value(), job->in_path);
+  if (!asset.ok()) return cli::fail(err, asset.error(), 1);
+  auto result = run_seam_pipeline(asset->bytes, asset->kind, job->params, job->limits, core::CancelToken::none());
+  if (!result.ok()) return cli::fail(err, result.error(), 1);
+  return write_seam_outputs(*job, std::move(result).value(), asset->format, out, err);
 }
 
 }  // namespace
