@@ -153,20 +153,14 @@ struct AccessorInfo {
   std::optional<Sparse> sparse;
 };
 
-// Checks an accessor completely against the buffers, without allocating anything sized by it.
-ApiResult<AccessorInfo> check_accessor(const GltfDocument& doc, std::uint64_t index) {
-  const json* accessors = array_member(doc.json, "accessors");
-  if (accessors == nullptr || !accessors->is_array() || index >= accessors->size()) {
-    return malformed("accessor " + std::to_string(index) + " does not exist");
-  }
-  const json& a = (*accessors)[index];
-  const std::string where = "accessors[" + std::to_string(index) + "]";
-  if (!a.is_object()) return malformed(where + " is not an object");
+// An accessor's componentType, type and normalized.
+ApiResult<AccessorInfo> accessor_format(const json& a, const std::string& where) {
   AccessorInfo info;
   SEAM_TRY(const std::uint64_t ct, require_uint(a, "componentType", where));
   info.component_type = static_cast<int>(std::min<std::uint64_t>(ct, 1u << 20));
-  const std::size_t csize = component_size_of(info.component_type);
-  if (csize == 0) return malformed(where + ".componentType " + std::to_string(ct) + " is not a glTF component type");
+  if (component_size_of(info.component_type) == 0) {
+    return malformed(where + ".componentType " + std::to_string(ct) + " is not a glTF component type");
+  }
   const auto type_it = a.find("type");
   if (type_it == a.end() || !type_it->is_string()) return malformed(where + ".type is required");
   info.type = type_it->get<std::string>();
@@ -177,9 +171,62 @@ ApiResult<AccessorInfo> check_accessor(const GltfDocument& doc, std::uint64_t in
     if (!norm_it->is_boolean()) return malformed(where + ".normalized must be a boolean");
     info.normalized = norm_it->get<bool>();
   }
+  return info;
+}
+
+// The bytes of a sparse accessor's indices or values (`where`): its bufferView from
+// `offset` on, which must hold `count` entries of `entry_size` bytes.
+ApiResult<ViewRange> sparse_part(const GltfDocument& doc, std::uint64_t view_index, std::uint64_t offset,
+                                 std::uint64_t count, std::uint64_t entry_size, const std::string& where) {
+  SEAM_TRY(ViewRange range, view_range(doc, view_index, where));
+  const std::uint64_t needed = offset + count * entry_size;
+  if (needed > range.length) return malformed(where + " run past their bufferView");
+  range.offset += offset;
+  range.length -= offset;
+  return range;
+}
+
+// An accessor's `sparse` object; `count` and `elem` are the accessor's count and element size.
+ApiResult<AccessorInfo::Sparse> check_sparse(const GltfDocument& doc, const json& s, const std::string& where,
+                                             std::uint64_t count, std::size_t elem) {
+  const std::string sw = where + ".sparse";
+  if (!s.is_object()) return malformed(sw + " is not an object");
+  SEAM_TRY(const std::uint64_t scount, require_uint(s, "count", sw));
+  if (scount == 0 || scount > count) return malformed(sw + ".count must be in [1, accessor count]");
+  const auto ii = s.find("indices");
+  const auto vi = s.find("values");
+  if (ii == s.end() || !ii->is_object() || vi == s.end() || !vi->is_object()) {
+    return malformed(sw + " needs indices and values objects");
+  }
+  AccessorInfo::Sparse sp;
+  sp.count = scount;
+  SEAM_TRY(const std::uint64_t iview, require_uint(*ii, "bufferView", sw + ".indices"));
+  SEAM_TRY(const auto ioff, get_uint(*ii, "byteOffset", sw + ".indices"));
+  SEAM_TRY(const std::uint64_t ict, require_uint(*ii, "componentType", sw + ".indices"));
+  if (ict != 5121 && ict != 5123 && ict != 5125) return malformed(sw + ".indices.componentType must be unsigned");
+  sp.index_type = static_cast<int>(ict);
+  SEAM_TRY(sp.indices,
+           sparse_part(doc, iview, ioff.value_or(0), scount, component_size_of(sp.index_type), sw + ".indices"));
+  SEAM_TRY(const std::uint64_t vview, require_uint(*vi, "bufferView", sw + ".values"));
+  SEAM_TRY(const auto voff, get_uint(*vi, "byteOffset", sw + ".values"));
+  SEAM_TRY(sp.values, sparse_part(doc, vview, voff.value_or(0), scount, elem, sw + ".values"));
+  return sp;
+}
+
+// Checks an accessor completely against the buffers, without allocating anything sized by it.
+ApiResult<AccessorInfo> check_accessor(const GltfDocument& doc, std::uint64_t index) {
+  const json* accessors = array_member(doc.json, "accessors");
+  if (accessors == nullptr || !accessors->is_array() || index >= accessors->size()) {
+    return malformed("accessor " + std::to_string(index) + " does not exist");
+  }
+  const json& a = (*accessors)[index];
+  const std::string where = "accessors[" + std::to_string(index) + "]";
+  if (!a.is_object()) return malformed(where + " is not an object");
+  SEAM_TRY(AccessorInfo info, accessor_format(a, where));
   SEAM_TRY(const std::uint64_t count, require_uint(a, "count", where));
   if (count == 0 || count >= kMaxCount) return malformed(where + ".count " + std::to_string(count) + " is out of range");
   info.count = count;
+  const std::size_t csize = component_size_of(info.component_type);
   const std::size_t elem = csize * static_cast<std::size_t>(info.components);
   SEAM_TRY(const auto view_index, get_uint(a, "bufferView", where));
   SEAM_TRY(const auto byte_offset, get_uint(a, "byteOffset", where));
@@ -201,38 +248,7 @@ ApiResult<AccessorInfo> check_accessor(const GltfDocument& doc, std::uint64_t in
   }
   const auto sparse_it = a.find("sparse");
   if (sparse_it != a.end()) {
-    const json& s = *sparse_it;
-    const std::string sw = where + ".sparse";
-    if (!s.is_object()) return malformed(sw + " is not an object");
-    SEAM_TRY(const std::uint64_t scount, require_uint(s, "count", sw));
-    if (scount == 0 || scount > count) return malformed(sw + ".count must be in [1, accessor count]");
-    const auto ii = s.find("indices");
-    const auto vi = s.find("values");
-    if (ii == s.end() || !ii->is_object() || vi == s.end() || !vi->is_object()) {
-      return malformed(sw + " needs indices and values objects");
-    }
-    AccessorInfo::Sparse sp;
-    sp.count = scount;
-    SEAM_TRY(const std::uint64_t iview, require_uint(*ii, "bufferView", sw + ".indices"));
-    SEAM_TRY(const auto ioff, get_uint(*ii, "byteOffset", sw + ".indices"));
-    SEAM_TRY(const std::uint64_t ict, require_uint(*ii, "componentType", sw + ".indices"));
-    if (ict != 5121 && ict != 5123 && ict != 5125) return malformed(sw + ".indices.componentType must be unsigned");
-    sp.index_type = static_cast<int>(ict);
-    SEAM_TRY(ViewRange iv, view_range(doc, iview, sw + ".indices"));
-    const std::uint64_t ineed = ioff.value_or(0) + scount * component_size_of(sp.index_type);
-    if (ineed > iv.length) return malformed(sw + ".indices run past their bufferView");
-    iv.offset += ioff.value_or(0);
-    iv.length -= ioff.value_or(0);
-    sp.indices = iv;
-    SEAM_TRY(const std::uint64_t vview, require_uint(*vi, "bufferView", sw + ".values"));
-    SEAM_TRY(const auto voff, get_uint(*vi, "byteOffset", sw + ".values"));
-    SEAM_TRY(ViewRange vv, view_range(doc, vview, sw + ".values"));
-    const std::uint64_t vneed = voff.value_or(0) + scount * elem;
-    if (vneed > vv.length) return malformed(sw + ".values run past their bufferView");
-    vv.offset += voff.value_or(0);
-    vv.length -= voff.value_or(0);
-    sp.values = vv;
-    info.sparse = sp;
+    SEAM_TRY(info.sparse, check_sparse(doc, *sparse_it, where, count, elem));
   }
   return info;
 }
