@@ -37,20 +37,8 @@ Result<ConedMesh> cone_boundary_loops(const HalfedgeMesh& mesh) {
   std::vector<Vec3> positions(mesh.positions().begin(), mesh.positions().end());
   std::vector<Triangle> triangles = mesh.triangles();
 
-  bool has_boundary = false;
-  std::vector<std::uint8_t> visited(mesh.num_halfedges(), 0);
-  for (std::size_t i = 0; i < mesh.num_halfedges(); ++i) {
-    const HalfedgeId start(i);
-    if (!mesh.is_boundary(start) || visited[i]) continue;
-    has_boundary = true;
-    std::vector<HalfedgeId> loop;
-    HalfedgeId h = start;
-    do {
-      visited[h.index()] = 1;
-      loop.push_back(h);
-      h = mesh.next(h);
-    } while (h != start);
-
+  const std::vector<std::vector<HalfedgeId>> loops = boundary_loops(mesh);
+  for (const std::vector<HalfedgeId>& loop : loops) {
     Vec3 centroid = Vec3::Zero();
     Vec3 normal = Vec3::Zero();
     for (HalfedgeId b : loop) {
@@ -79,7 +67,7 @@ Result<ConedMesh> cone_boundary_loops(const HalfedgeMesh& mesh) {
     // face it was missing, with the orientation the builder requires.
     for (HalfedgeId b : loop) triangles.push_back({mesh.tail(b).value(), mesh.head(b).value(), apex});
   }
-  if (has_boundary) {
+  if (!loops.empty()) {
     SEAM_TRY(out.mesh, build_halfedge_mesh(positions, triangles));
   } else {
     out.mesh = mesh;

@@ -16,6 +16,24 @@ int Topology::euler_characteristic() const {
   return chi;
 }
 
+std::vector<std::vector<HalfedgeId>> boundary_loops(const HalfedgeMesh& mesh) {
+  std::vector<std::vector<HalfedgeId>> loops;
+  std::vector<std::uint8_t> visited(mesh.num_halfedges(), 0);
+  for (std::size_t i = 0; i < mesh.num_halfedges(); ++i) {
+    const HalfedgeId start(i);
+    if (!mesh.is_boundary(start) || visited[i]) continue;
+    std::vector<HalfedgeId> loop;
+    HalfedgeId h = start;
+    do {
+      visited[h.index()] = 1;
+      loop.push_back(h);
+      h = mesh.next(h);
+    } while (h != start);
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
 Topology compute_topology(const HalfedgeMesh& mesh) {
   Topology topo;
   const std::uint32_t kNone = VertexId::kInvalidValue;
@@ -56,20 +74,10 @@ Topology compute_topology(const HalfedgeMesh& mesh) {
     ++topo.components[c].vertices;
   }
 
-  std::vector<std::uint8_t> visited(mesh.num_halfedges(), 0);
-  for (std::size_t i = 0; i < mesh.num_halfedges(); ++i) {
-    const HalfedgeId start(i);
-    if (!mesh.is_boundary(start) || visited[i]) continue;
-    std::vector<HalfedgeId> loop;
-    HalfedgeId h = start;
-    do {
-      visited[h.index()] = 1;
-      loop.push_back(h);
-      h = mesh.next(h);
-    } while (h != start);
-    const std::uint32_t c = topo.face_component[mesh.face(HalfedgeMesh::twin(start))];
+  topo.boundary_loops = boundary_loops(mesh);
+  for (const std::vector<HalfedgeId>& loop : topo.boundary_loops) {
+    const std::uint32_t c = topo.face_component[mesh.face(HalfedgeMesh::twin(loop.front()))];
     ++topo.components[c].boundary_loops;
-    topo.boundary_loops.push_back(std::move(loop));
     topo.boundary_loop_component.push_back(c);
   }
   for (auto& c : topo.components) {

@@ -34,6 +34,10 @@ struct Topology {
   int euler_characteristic() const;
 };
 
+/// Each boundary loop of `mesh` as its boundary half-edges in next() order, starting at the
+/// half-edge with the smallest id; loops sorted by that id (Topology::boundary_loops). O(H).
+std::vector<std::vector<HalfedgeId>> boundary_loops(const HalfedgeMesh& mesh);
+
 /// Computes components, boundary loops, Euler characteristic and genus. O(V + E + F).
 Topology compute_topology(const HalfedgeMesh& mesh);
 

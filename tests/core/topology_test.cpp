@@ -1,7 +1,10 @@
+#include "core/mesh/topology.h"
+
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include "core/mesh/halfedge_mesh.h"
-#include "core/mesh/topology.h"
 #include "fixtures.h"
 #include "test_data.h"
 
@@ -69,7 +72,11 @@ TEST_CASE("boundary loops are ordered chains of boundary half-edges") {
     // Every vertex of a loop lies on one rim (z = 0 or z = 2).
     const double z = mesh->position(mesh->tail(loop[0])).z();
     for (auto h : loop) CHECK(mesh->position(mesh->tail(h)).z() == doctest::Approx(z));
+    // Each loop starts at its smallest half-edge; loops are sorted by it.
+    CHECK(*std::min_element(loop.begin(), loop.end()) == loop[0]);
   }
+  CHECK(t.boundary_loops[0][0] < t.boundary_loops[1][0]);
+  CHECK(boundary_loops(*mesh) == t.boundary_loops);
 }
 
 TEST_CASE("real CGAL meshes have the topology they are known to have") {
