@@ -286,41 +286,8 @@ struct Server::Impl {
     state->kind = request.kind;
     state->params = std::move(request.params);
     auto future = state->promise.get_future();
-    const api::PipelineLimits limits{.max_faces = max_faces,
-                                     .max_extrema = config.max_extrema,
-                                     .threads = effective_threads_per_request(config)};
-    {
-      std::lock_guard lock(jobs_mutex);
-      live_jobs.insert(state.get());
-    }
     const auto enqueued = Clock::now();
-    const bool admitted = pool.try_submit([this, state, limits] {
-      state->started = Clock::now();
-      // `finished` is written before the promise is fulfilled: the waiting thread reads it.
-      auto fulfil = [&state](api::ApiResult<api::PipelineOutput> result) {
-        state->finished = Clock::now();
-        state->promise.set_value(std::move(result));
-      };
-      try {
-        if (state->token.is_cancelled()) {
-          fulfil(make_api_error(ApiErrorCode::kTimeout, "the time budget ran out while queued"));
-        } else {
-          fulfil(job(state->asset, state->kind, state->params, limits, state->token));
-        }
-      } catch (const std::bad_alloc&) {
-        fulfil(make_api_error(ApiErrorCode::kInternal, "out of memory while computing the seam"));
-      } catch (const std::exception& e) {
-        fulfil(make_api_error(ApiErrorCode::kInternal, std::string("unexpected exception: ") + e.what()));
-      }
-      std::lock_guard lock(jobs_mutex);
-      live_jobs.erase(state.get());
-      jobs_done.notify_all();
-    });
-    if (!admitted) {
-      {
-        std::lock_guard lock(jobs_mutex);
-        live_jobs.erase(state.get());
-      }
+    if (!submit_job(state)) {
       res.set_header("Retry-After", std::to_string(config.retry_after_s));
       return send_error(req, res,
                         make_api_error(ApiErrorCode::kQueueFull,
@@ -352,16 +319,56 @@ struct Server::Impl {
       if (error.code == ApiErrorCode::kTimeout) error = state->drained ? drain_error() : budget_error();
       return send_error(req, res, error);
     }
-    auto& output = result.value();
-    if (state->params.output == api::OutputFormat::kSvg) {
-      res.status = 200;
+    send_output(res, state->params.output, result.value());
+  }
+
+  // Registers the job and hands it to the pool; false (and unregistered) when the pool's
+  // queue is full. The worker fulfils the job's promise whatever happens, exceptions included.
+  bool submit_job(const std::shared_ptr<JobState>& state) {
+    const api::PipelineLimits limits{
+        .max_faces = max_faces, .max_extrema = config.max_extrema, .threads = effective_threads_per_request(config)};
+    {
+      std::lock_guard lock(jobs_mutex);
+      live_jobs.insert(state.get());
+    }
+    const bool admitted = pool.try_submit([this, state, limits] {
+      state->started = Clock::now();
+      // `finished` is written before the promise is fulfilled: the waiting thread reads it.
+      auto fulfil = [&state](api::ApiResult<api::PipelineOutput> result) {
+        state->finished = Clock::now();
+        state->promise.set_value(std::move(result));
+      };
+      try {
+        if (state->token.is_cancelled()) {
+          fulfil(make_api_error(ApiErrorCode::kTimeout, "the time budget ran out while queued"));
+        } else {
+          fulfil(job(state->asset, state->kind, state->params, limits, state->token));
+        }
+      } catch (const std::bad_alloc&) {
+        fulfil(make_api_error(ApiErrorCode::kInternal, "out of memory while computing the seam"));
+      } catch (const std::exception& e) {
+        fulfil(make_api_error(ApiErrorCode::kInternal, std::string("unexpected exception: ") + e.what()));
+      }
+      std::lock_guard lock(jobs_mutex);
+      live_jobs.erase(state.get());
+      jobs_done.notify_all();
+    });
+    if (!admitted) {
+      std::lock_guard lock(jobs_mutex);
+      live_jobs.erase(state.get());
+    }
+    return admitted;
+  }
+
+  // The job's answer in the format the request asked for (params.output, or Accept).
+  static void send_output(httplib::Response& res, api::OutputFormat format, api::PipelineOutput& output) {
+    res.status = 200;
+    if (format == api::OutputFormat::kSvg) {
       res.set_content(output.svg, kSvgType);
-    } else if (state->params.output == api::OutputFormat::kGlb) {
-      res.status = 200;
+    } else if (format == api::OutputFormat::kGlb) {
       res.body = std::move(output.glb);
       res.set_header("Content-Type", kGlbType);
     } else {
-      res.status = 200;
       res.set_content(output.body.dump(), kJsonType);
     }
   }
