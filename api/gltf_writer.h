@@ -69,6 +69,7 @@ ApiResult<WrittenAsset> write_cut_asset(const GltfDocument& doc, std::span<const
 /// Writes a one-mesh, one-node GLB from positions and triangles plus optional extra
 /// attributes (each with mesh.positions.size() elements, e.g. NORMAL, COLOR_0, TEXCOORD_0).
 /// Positions are stored as float32. With `draco`, the primitive is Draco-compressed.
+/// Errors: kInternal (Draco refused; only with `draco`). O(vertices * attribute bytes + faces).
 ApiResult<std::string> write_plain_glb(const core::IndexedMesh& mesh, const std::vector<AttributeArray>& extra = {},
                                        bool draco = false);
 
