@@ -184,11 +184,11 @@ Result<MethodTree> run_method(const HalfedgeMesh& work, std::span<const double> 
     stats.paths_ms += ms_since(start);
     start = Clock::now();
     if (options.method == SeamMethod::kSkeleton) {
-      SEAM_TRY(SkeletonResult skeleton,
-               skeleton_seam(work, graph, weights, paths,
-                             SkeletonOptions{.refine = options.refine && options.local_refine,
-                                             .improve = options.refine && options.improve},
-                             cancel));
+      SEAM_TRY(SkeletonResult skeleton, skeleton_seam(work, graph, weights, paths,
+                                                      SkeletonOptions{.refine = options.refine && options.local_refine,
+                                                                      .improve = options.refine && options.improve,
+                                                                      .threads = options.threads},
+                                                      cancel));
       tree = std::move(skeleton.tree);
     } else {
       SEAM_TRY(tree, mst_seam(work, graph, weights, paths, cancel));

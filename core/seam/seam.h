@@ -43,9 +43,9 @@ struct SeamOptions {
   double exact_budget = 5.0e6;
   /// kOptimal refuses more terminals per component than this (kTooManyTerminals).
   std::size_t optimal_max_terminals = 10;
-  /// Threads for per-terminal Dijkstra runs (0 = hardware concurrency). Unused since the
-  /// terminal paths come from one multi-source search and on-demand pair searches
-  /// (terminal_paths_on_demand); kept so callers that set it still compile.
+  /// Threads the skeleton may use (SkeletonOptions::threads): 2 or more runs the global moves'
+  /// other starts beside the refinement, 0 or 1 runs everything on the calling thread. The
+  /// seam does not depend on it.
   unsigned threads = 0;
   /// Optional cost multiplier per edge of the input mesh (empty: all 1). Every method then
   /// minimises the weighted length (Euclidean length x multiplier) with the same code;

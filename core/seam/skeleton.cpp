@@ -1,7 +1,11 @@
 #include "core/seam/skeleton.h"
 
 #include <chrono>
+#include <exception>
+#include <functional>
+#include <optional>
 #include <string>
+#include <thread>
 
 #include "core/seam/improve.h"
 #include "core/seam/refine.h"
@@ -37,66 +41,130 @@ Status validate_inputs(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::sp
   return Ok{};
 }
 
-// The steps after the tree exists: refinement (refine.h), then the global moves (improve.h).
-Result<SkeletonResult> finish(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
-                              std::span<const VertexId> terminals, std::vector<EdgeId> final_edges,
-                              const SkeletonOptions& options, SkeletonTrace& tr, SkeletonResult& result,
-                              const CancelToken& cancel) {
-  auto improve = [&](std::span<const EdgeId> edges) -> Result<ImproveResult> {
-    const auto start = std::chrono::steady_clock::now();
-    auto improved = improve_tree(mesh, graph, edge_weights, terminals, edges, {}, cancel);
-    result.stats.improve_ms += ms_since(start);
-    return improved;
-  };
-  // Two starts, the shorter kept: the global moves on the straightened tree, and the
-  // refinement followed by the global moves. Neither order wins everywhere (improving first
-  // led the refinement into a worse local optimum on dino, refining first did on bunny00;
-  // seam_quality_bench), and the second is never longer than the refinement alone.
-  // Above kOneStartVertices only the second: on camel x64 (625k vertices, k = 6..32,
-  // seam_bench --size camel-large) the first never won by more than 0.005% of the length
-  // (k = 6: 4.0423 against 4.0425) and cost 150-330 ms of a 1.5 s seam stage, since the moves'
-  // work budget (ImproveOptions::max_settled) binds there.
-  constexpr std::size_t kOneStartVertices = 300000;
-  std::vector<EdgeId> improved_only;
-  double improved_only_length = 0.0;
-  if (options.improve && options.refine && mesh.num_vertices() <= kOneStartVertices) {
-    SEAM_TRY(ImproveResult first, improve(final_edges));
-    improved_only = std::move(first.edges);
-    improved_only_length = first.stats.length_after;
-  }
+// Above this many vertices the moves run only after the refinement: on camel x64 (625k
+// vertices, k = 6..32, seam_bench --size camel-large) the start on the straightened tree never
+// won by more than 0.005% of the length (k = 6: 4.0423 against 4.0425) and cost 150-330 ms of a
+// 1.5 s seam stage, since the moves' work budget (ImproveOptions::max_settled) binds there.
+constexpr std::size_t kOneStartVertices = 300000;
+// The nearest-terminal start reaches regions the tour of Algorithm 2 never encloses (bunny00
+// farthest-point rows). Its search is capped at 2e6 expanded vertices, and it is skipped where
+// k searches of half the mesh would exceed that, as they did before the tree's searches became
+// one growing search (at 1.25M faces with 16 extrema they cost 2x the paper's whole seam
+// stage). The rule stays: at that size the start's moves alone would spend their 1e6-vertex
+// budget (~0.18 s of a ~1 s seam stage at 1.25M faces).
+constexpr std::size_t kStartBudget = 2000000;
+
+// A start's tree and its length.
+struct StartTree {
+  std::vector<EdgeId> edges;
+  double length = 0.0;
+};
+
+using Improve = std::function<Result<ImproveResult>(std::span<const EdgeId>, double& ms)>;
+
+// The main start: the refinement (refine.h), then the global moves (improve.h).
+Result<StartTree> refine_then_improve(const HalfedgeMesh& mesh, const EdgeGraph& graph,
+                                      std::span<const double> edge_weights, std::span<const VertexId> terminals,
+                                      std::vector<EdgeId> edges, const SkeletonOptions& options, SkeletonTrace& tr,
+                                      SkeletonResult& result, const Improve& improve, const CancelToken& cancel) {
+  StartTree out{std::move(edges), 0.0};
   if (options.refine) {
     const auto start = std::chrono::steady_clock::now();
-    SEAM_TRY(RefineResult refined, refine_tree(mesh, graph, edge_weights, terminals, final_edges, {}, cancel));
-    final_edges = std::move(refined.edges);
+    SEAM_TRY(RefineResult refined, refine_tree(mesh, graph, edge_weights, terminals, out.edges, {}, cancel));
+    out.edges = std::move(refined.edges);
+    out.length = refined.stats.length_after;
     tr.refine_stats = refined.stats;
     result.stats.refine_ms = ms_since(start);
     tr.refined_length = tr.refine_stats.length_after;
   }
   if (options.improve) {
-    SEAM_TRY(ImproveResult second, improve(final_edges));
-    final_edges = std::move(second.edges);
-    if (!improved_only.empty() && improved_only_length < second.stats.length_after) {
-      final_edges = std::move(improved_only);
-      second.stats.length_after = improved_only_length;
-    }
-    // A third start with both steps on: the nearest-terminal tree, improved. It reaches
-    // regions the tour of Algorithm 2 never encloses (bunny00 farthest-point rows). Its
-    // search is capped at 2e6 expanded vertices, and it is skipped where k searches of half
-    // the mesh would exceed that, as they did before the tree's searches became one growing
-    // search (at 1.25M faces with 16 extrema they cost 2x the paper's whole seam stage). The
-    // rule stays: at that size the start's moves alone would spend their 1e6-vertex budget
-    // (~0.18 s of a ~1 s seam stage at 1.25M faces).
-    constexpr std::size_t kStartBudget = 2000000;
-    if (options.refine && terminals.size() * mesh.num_vertices() / 2 <= kStartBudget) {
-      auto greedy = nearest_terminal_tree(mesh, graph, terminals, cancel, kStartBudget);
-      if (!greedy.ok() && greedy.error().code == ErrorCode::kCancelled) return greedy.take_error();
-      if (greedy.ok() && !greedy->empty()) {
-        SEAM_TRY(ImproveResult third, improve(*greedy));
-        if (third.stats.length_after < second.stats.length_after) final_edges = std::move(third.edges);
-      }
+    SEAM_TRY(ImproveResult improved, improve(out.edges, result.stats.improve_ms));
+    out.edges = std::move(improved.edges);
+    out.length = improved.stats.length_after;
+  }
+  return out;
+}
+
+// The other starts, with both steps on: the moves on the straightened tree (up to
+// kOneStartVertices) and on the nearest-terminal tree (within kStartBudget). Each reads only
+// shared inputs and writes only its own outcome, so they may run beside the main start.
+struct OtherStarts {
+  std::optional<Result<ImproveResult>> straightened;
+  std::optional<Result<ImproveResult>> nearest;
+  double improve_ms = 0;  // their moves' time
+
+  void run_straightened(const HalfedgeMesh& mesh, std::span<const EdgeId> edges, const Improve& improve) {
+    if (mesh.num_vertices() <= kOneStartVertices) straightened = improve(edges, improve_ms);
+  }
+  void run_nearest(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const VertexId> terminals,
+                   const Improve& improve, const CancelToken& cancel) {
+    if (terminals.size() * mesh.num_vertices() / 2 > kStartBudget) return;
+    auto greedy = nearest_terminal_tree(mesh, graph, terminals, cancel, kStartBudget);
+    if (!greedy.ok() && greedy.error().code == ErrorCode::kCancelled) {
+      nearest = greedy.take_error();
+    } else if (greedy.ok() && !greedy->empty()) {
+      nearest = improve(*greedy, improve_ms);
     }
   }
-  result.tree = make_steiner_tree(mesh, final_edges, terminals, edge_weights);
+  bool failed() const { return (straightened && !straightened->ok()) || (nearest && !nearest->ok()); }
+};
+
+// The steps after the tree exists. Three starts, the shortest kept: the moves on the
+// straightened tree, the refinement followed by the moves, and the moves on the
+// nearest-terminal tree. Neither of the first two wins everywhere (improving first led the
+// refinement into a worse local optimum on dino, refining first did on bunny00;
+// seam_quality_bench), and the second is never longer than the refinement alone. With
+// options.threads >= 2 the other two run on a second thread beside the second; the starts do
+// not depend on each other, so the result is the same, and so is the first error met.
+Result<SkeletonResult> finish(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
+                              std::span<const VertexId> terminals, std::vector<EdgeId> final_edges,
+                              const SkeletonOptions& options, SkeletonTrace& tr, SkeletonResult& result,
+                              const CancelToken& cancel) {
+  const Improve improve = [&](std::span<const EdgeId> edges, double& ms) -> Result<ImproveResult> {
+    const auto start = std::chrono::steady_clock::now();
+    auto improved = improve_tree(mesh, graph, edge_weights, terminals, edges, {}, cancel);
+    ms += ms_since(start);
+    return improved;
+  };
+  const std::vector<EdgeId> straightened = final_edges;
+  auto main_start = [&] {
+    return refine_then_improve(mesh, graph, edge_weights, terminals, final_edges, options, tr, result, improve, cancel);
+  };
+  OtherStarts other;
+  std::optional<Result<StartTree>> main;
+  if (!(options.improve && options.refine)) {
+    main = main_start();
+  } else if (options.threads < 2) {
+    other.run_straightened(mesh, straightened, improve);
+    if (!other.failed()) main = main_start();
+    if (!other.failed() && main->ok()) other.run_nearest(mesh, graph, terminals, improve, cancel);
+  } else {
+    std::exception_ptr failure;
+    {
+      const std::jthread beside([&] {
+        try {
+          other.run_straightened(mesh, straightened, improve);
+          if (!other.failed()) other.run_nearest(mesh, graph, terminals, improve, cancel);
+        } catch (...) {
+          failure = std::current_exception();
+        }
+      });
+      main = main_start();
+    }  // joins `beside`
+    if (failure) std::rethrow_exception(failure);
+  }
+  result.stats.improve_ms += other.improve_ms;
+  // The first error in the order the starts run one after another.
+  if (other.straightened && !other.straightened->ok()) return other.straightened->take_error();
+  if (!main->ok()) return main->take_error();
+  if (other.nearest && !other.nearest->ok()) return other.nearest->take_error();
+  StartTree best = std::move(main->value());
+  for (auto* start : {&other.straightened, &other.nearest}) {
+    if (*start && (**start)->stats.length_after < best.length) {
+      best = {std::move((**start)->edges), (**start)->stats.length_after};
+    }
+  }
+  result.tree = make_steiner_tree(mesh, best.edges, terminals, edge_weights);
   return std::move(result);
 }
 

@@ -22,6 +22,10 @@ struct SkeletonOptions {
   /// false: skip the paper's three steps and start from the terminal-avoiding star tree, the
   /// fallback used where those steps fail on a degenerate input (for tests and benchmarks).
   bool paper_steps = true;
+  /// With refine and improve: 2 or more runs the moves' other two starts (on the straightened
+  /// and on the nearest-terminal tree) on a second thread beside the refinement; 0 or 1 runs
+  /// the three starts one after another. The result is the same either way.
+  unsigned threads = 1;
 };
 
 struct SkeletonStats {

@@ -474,3 +474,30 @@ TEST_CASE("edge_costs: the same search code minimises the weighted length, lengt
   bad.pop_back();
   CHECK(compute_seam(mesh, extrema, {.edge_costs = bad}).error().code == ErrorCode::kInvalidArgument);
 }
+
+TEST_CASE("threads: the moves' other starts beside the refinement give the same seam, errors included") {
+  // Heuristic rows (exact off), where all three starts run: closed, open and genus-1 meshes.
+  const std::pair<const char*, std::size_t> cases[] = {{"hand", 9}, {"mushroom", 7}, {"knot1", 8}, {"dino", 12}};
+  for (const auto& [name, k] : cases) {
+    CAPTURE(std::string(name));
+    const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
+    const auto extrema = fx::farthest_point_extrema(mesh, k);
+    auto one = compute_seam(mesh, extrema, {.exact_budget = 0, .threads = 1});
+    auto two = compute_seam(mesh, extrema, {.exact_budget = 0, .threads = 2});
+    REQUIRE(one.ok());
+    REQUIRE(two.ok());
+    CHECK(one->seam_edges == two->seam_edges);
+    CHECK(one->length == two->length);
+    check_seam(mesh, *two, true, false);
+  }
+  // A budget that runs out during the moves fails the same way on either path.
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("camel");
+  const auto extrema = fx::farthest_point_extrema(mesh, 12);
+  for (unsigned threads : {1u, 2u}) {
+    CAPTURE(threads);
+    const CancelToken expired(CancelToken::Clock::now());
+    auto r = compute_seam(mesh, extrema, {.exact_budget = 0, .threads = threads}, expired);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == ErrorCode::kCancelled);
+  }
+}
