@@ -18,11 +18,11 @@
 
 namespace seam::bench {
 
-/// Milliseconds taken by f(), best of `repeats` runs (the minimum filters scheduler noise).
 // Every benchmark measures the process environment the service runs under
 // (api/process_env.h: huge-page malloc): executes the benchmark again with it if need be.
 inline void run_as_deployed(char** argv) { api::reexec_with(api::ProcessEnv{}, argv); }
 
+/// Wall milliseconds taken by f(), best of `repeats` runs (the minimum filters scheduler noise).
 template <class F>
 double best_ms(int repeats, F&& f) {
   double best = 1e300;

@@ -6,6 +6,8 @@
 //   --skeleton-only: the timing table without the mst, greedy and optimal columns
 //   --fingerprint: after each length row, every method's exact length (%.17g), seam edge
 //     count and an FNV-1a hash of its seam edge ids, to show that a refactor changed nothing
+//   --threads N: only the default seam's wall time on 1 and on N threads (SeamOptions::threads)
+//     and whether the seams are the same
 //   --size hand|camel|camel-large|armadillo, --k N (repeatable): timing rows for these sizes / k
 //     only (armadillo: CGAL's 52k faces unsubdivided, only when asked for; --k takes any k)
 //
@@ -14,15 +16,15 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
-#include <ctime>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <vector>
 
 #include "bench_util.h"
-#include "core/seam/seam.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
+#include "core/seam/seam.h"
 #include "seam_fixtures.h"
 
 using namespace seam;
@@ -156,19 +158,11 @@ double best_cpu_ms(int repeats, F&& f) {
   return best;
 }
 
-void timing_table(bool quick, bool skeleton_only) {
-  std::printf("\n## compute_seam end to end, CPU milliseconds (best of 3 below 200k faces, else 1 run)\n\n");
-  std::printf("Columns: default skeleton wall time and its stats split (preprocess = topology + cut graph +\n");
-  std::printf("coning + final disc verification; paths = the terminals' multi-source search; method = tour,\n");
-  std::printf("shrink, straighten, on-demand pair searches, refinement); `exact` = the default returned the\n");
-  std::printf("Dreyfus-Wagner optimum (SeamOptions::exact_budget; issue 16's quality feature, not held to\n");
-  std::printf("the 2x target); paper = refine: false; ratio = default / paper against %.0fx where the\n",
-              kTargetRatio);
-  std::printf("heuristic runs. Lengths: default and paper seam. Meshes are subdivided, then numbered along\n");
-  std::printf("a Z-order curve as the service numbers every mesh it receives.\n\n");
-  std::printf("| mesh | faces | k | default | (pre / paths / method) | exact | paper | ratio | target | default len "
-              "| paper len | mst | greedy | optimal |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+// The timing rows' meshes in turn (subdivided, then numbered along a Z-order curve as the
+// service numbers every mesh it receives), with 32 farthest-point extrema each: hand x4,
+// camel x4 and camel x64, or those named by --size (the armadillo only when named).
+template <class Visit>
+void for_each_timing_mesh(bool quick, Visit&& visit) {
   struct Size {
     const char* base;
     std::size_t min_faces;
@@ -180,16 +174,36 @@ void timing_table(bool quick, bool skeleton_only) {
                                 {"armadillo", 0, "armadillo"}};
   for (const auto& size : sizes) {
     const bool asked = std::find(g_sizes.begin(), g_sizes.end(), size.key) != g_sizes.end();
-    // The armadillo (52k faces, as the CLI gets it) only when asked for: the default job's exact seam.
     if ((!g_sizes.empty() || size.min_faces == 0) && !asked) continue;
-    // Numbered as the service numbers meshes (Z-order), not in subdivision order.
     auto built = build(bench::spatially_ordered(bench::subdivide_to(bench::load_cgal(size.base), size.min_faces)));
     if (!built.ok()) continue;
     const HalfedgeMesh mesh = std::move(built).value();
-    const auto all_extrema = fixtures::farthest_point_extrema(mesh, 32);
+    visit(size.base, mesh, fixtures::farthest_point_extrema(mesh, 32));
+  }
+}
+
+// The k of the timing rows: 4, 8, 16, 32, or those named by --k.
+std::vector<std::size_t> timing_ks() {
+  return g_ks.empty() ? std::vector<std::size_t>{4, 8, 16, 32} : g_ks;
+}
+
+void timing_table(bool quick, bool skeleton_only) {
+  std::printf("\n## compute_seam end to end, CPU milliseconds (best of 3 below 200k faces, else 1 run)\n\n");
+  std::printf("Columns: default skeleton wall time and its stats split (preprocess = topology + cut graph +\n");
+  std::printf("coning + final disc verification; paths = the terminals' multi-source search; method = tour,\n");
+  std::printf("shrink, straighten, on-demand pair searches, refinement); `exact` = the default returned the\n");
+  std::printf("Dreyfus-Wagner optimum (SeamOptions::exact_budget; issue 16's quality feature, not held to\n");
+  std::printf("the 2x target); paper = refine: false; ratio = default / paper against %.0fx where the\n", kTargetRatio);
+  std::printf("heuristic runs. Lengths: default and paper seam. Meshes are subdivided, then numbered along\n");
+  std::printf("a Z-order curve as the service numbers every mesh it receives.\n\n");
+  std::printf(
+      "| mesh | faces | k | default | (pre / paths / method) | exact | paper | ratio | target | default len "
+      "| paper len | mst | greedy | optimal |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for_each_timing_mesh(quick, [&](const char* base, const HalfedgeMesh& mesh,
+                                  const std::vector<VertexId>& all_extrema) {
     const int repeats = mesh.num_faces() < 200000 ? 3 : 1;
-    const std::vector<std::size_t> ks = g_ks.empty() ? std::vector<std::size_t>{4, 8, 16, 32} : g_ks;
-    for (std::size_t k : ks) {
+    for (std::size_t k : timing_ks()) {
       const std::span<const VertexId> extrema(all_extrema.data(), std::min(k, all_extrema.size()));
       double total[5] = {0, 0, 0, 0, 0};
       double length[2] = {0, 0};
@@ -214,7 +228,7 @@ void timing_table(bool quick, bool skeleton_only) {
         total[m] = best_cpu_ms(repeats, [&] { r = compute_seam(mesh, extrema, options[m]); });
         if (!r.ok()) {
           status[m] = r.error().code == ErrorCode::kTooManyTerminals ? "refused (memory)" : "ERROR";
-          std::fprintf(stderr, "%s k=%zu option %d: %s\n", size.base, k, m, r.error().message.c_str());
+          std::fprintf(stderr, "%s k=%zu option %d: %s\n", base, k, m, r.error().message.c_str());
           continue;
         }
         if (m < 2) length[m] = r->length;
@@ -241,13 +255,48 @@ void timing_table(bool quick, bool skeleton_only) {
       } else {
         std::snprintf(target, sizeof target, "-");
       }
-      std::printf("| %s x%zu | %zu | %zu | %s | %.1f / %.1f / %.1f | %s | %s | %.2f | %s | %.4f | %.4f | %s | %s | %s |\n",
-                  size.base, mesh.num_faces() / bench::load_cgal(size.base).triangles.size(), mesh.num_faces(),
-                  extrema.size(), cell(0), stats.preprocess_ms, stats.paths_ms, stats.method_ms, exact ? "yes" : "no",
-                  cell(1), ratio, target, length[0], length[1], cell(2), cell(3), cell(4));
+      std::printf(
+          "| %s x%zu | %zu | %zu | %s | %.1f / %.1f / %.1f | %s | %s | %.2f | %s | %.4f | %.4f | %s | %s | %s |\n",
+          base, mesh.num_faces() / bench::load_cgal(base).triangles.size(), mesh.num_faces(), extrema.size(), cell(0),
+          stats.preprocess_ms, stats.paths_ms, stats.method_ms, exact ? "yes" : "no", cell(1), ratio, target, length[0],
+          length[1], cell(2), cell(3), cell(4));
       std::fflush(stdout);
     }
-  }
+  });
+}
+
+// --threads N: the default seam's wall time on one thread and on N (SeamOptions::threads: the
+// moves' other starts beside the refinement), run alternately, and whether the seams are the
+// same edges (they must be).
+void threads_table(bool quick, unsigned threads) {
+  std::printf(
+      "\n## The default seam on 1 and %u threads, wall milliseconds (best of 3; 1 run above 200k "
+      "faces)\n\n",
+      threads);
+  std::printf("| mesh | faces | k | 1 thread | %u threads | ratio | same seam |\n|---|---|---|---|---|---|---|\n",
+              threads);
+  for_each_timing_mesh(quick, [&](const char* base, const HalfedgeMesh& mesh, const std::vector<VertexId>& all) {
+    const int repeats = mesh.num_faces() < 200000 ? 3 : 1;
+    for (std::size_t k : timing_ks()) {
+      const std::span<const VertexId> extrema(all.data(), std::min(k, all.size()));
+      Result<SeamResult> one = make_error(ErrorCode::kInvalidArgument, "not run"), many = one;
+      double wall[2] = {1e300, 1e300};
+      for (int i = 0; i < repeats; ++i) {
+        wall[0] = std::min(wall[0], bench::best_ms(1, [&] { one = compute_seam(mesh, extrema, {.threads = 1}); }));
+        wall[1] =
+            std::min(wall[1], bench::best_ms(1, [&] { many = compute_seam(mesh, extrema, {.threads = threads}); }));
+      }
+      if (!one.ok() || !many.ok()) {
+        std::fprintf(stderr, "%s k=%zu: %s\n", base, k, (one.ok() ? many : one).error().message.c_str());
+        continue;
+      }
+      const bool same = one->seam_edges == many->seam_edges && one->length == many->length;
+      std::printf("| %s x%zu | %zu | %zu | %.1f | %.1f | %.2f | %s |\n", base,
+                  mesh.num_faces() / bench::load_cgal(base).triangles.size(), mesh.num_faces(), extrema.size(), wall[0],
+                  wall[1], wall[1] / wall[0], same ? "yes" : "NO");
+      std::fflush(stdout);
+    }
+  });
 }
 
 }  // namespace
@@ -255,6 +304,7 @@ void timing_table(bool quick, bool skeleton_only) {
 int main(int argc, char** argv) {
   seam::bench::run_as_deployed(argv);
   bool quick = false, lengths = true, timings = true, skeleton_only = false;
+  unsigned threads = 0;           // --threads N: only the table of the default seam on 1 and N threads
   std::vector<std::string> only;  // --mesh NAME (repeatable): length table for these meshes only
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc) only.emplace_back(argv[++i]);
@@ -265,6 +315,11 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--fingerprint")) g_fingerprint = true;
     if (!std::strcmp(argv[i], "--size") && i + 1 < argc) g_sizes.emplace_back(argv[++i]);
     if (!std::strcmp(argv[i], "--k") && i + 1 < argc) g_ks.push_back(std::stoul(argv[++i]));
+    if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = static_cast<unsigned>(std::stoul(argv[++i]));
+  }
+  if (threads > 0) {
+    threads_table(quick, threads);
+    return 0;
   }
   if (lengths) length_table(quick, only);
   if (timings) timing_table(quick, skeleton_only);
