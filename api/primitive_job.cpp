@@ -120,13 +120,13 @@ ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const C
 // lower vertex id), kept in the detector's order (by component, most prominent first). The
 // detector's per-component cap is lowered to the budget too, so it never ranks more.
 ApiResult<std::vector<core::VertexId>> automatic_extrema(const ExtremaSpec& spec, std::vector<core::VertexId> excluded,
-                                                         const core::HalfedgeMesh& mesh, std::size_t budget,
-                                                         unsigned threads, const core::CancelToken& cancel) {
+                                                         const Surface& surface, std::size_t budget, unsigned threads,
+                                                         const core::CancelToken& cancel) {
   if (budget == 0) return std::vector<core::VertexId>{};
   core::ExtremaOptions options = spec.auto_options;
   options.threads = threads;
   if (options.max_count == 0 || options.max_count > budget) options.max_count = budget;
-  auto found = core::detect_extrema(mesh, options, cancel);
+  auto found = core::detect_extrema(surface.mesh, surface.topology, options, cancel);
   if (!found.ok()) return from_core(found.error());
   std::sort(excluded.begin(), excluded.end());
   std::vector<core::Extremum> kept;
@@ -156,8 +156,10 @@ ApiResult<std::vector<core::VertexId>> automatic_extrema(const ExtremaSpec& spec
 
 // Explicit extrema first in the budget (the client named them), then the automatic ones.
 ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, const PrimitiveData& data,
-                                                       const Canonical& canon, const core::HalfedgeMesh& mesh,
-                                                       const PrimitiveJobOptions& job, const core::CancelToken& cancel) {
+                                                       const Surface& surface, const PrimitiveJobOptions& job,
+                                                       const core::CancelToken& cancel) {
+  const Canonical& canon = surface.canon;
+  const core::HalfedgeMesh& mesh = surface.mesh;
   const std::size_t n = data.mesh.positions.size();
   auto check = [&](std::uint32_t i, const char* what) -> std::optional<ApiError> {
     if (i < n) return std::nullopt;
@@ -183,8 +185,9 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
       if (auto e = check(i, "excluded")) return *e;
       excluded.push_back(core::VertexId(canon.input_to_vertex[i]));
     }
-    SEAM_TRY(const std::vector<core::VertexId> found,
-             automatic_extrema(spec, std::move(excluded), mesh, job.max_extrema - explicit_count, job.threads, cancel));
+    SEAM_TRY(
+        const std::vector<core::VertexId> found,
+        automatic_extrema(spec, std::move(excluded), surface, job.max_extrema - explicit_count, job.threads, cancel));
     for (auto v : found) add(v);
   }
   for (auto i : spec.indices) {
@@ -209,7 +212,6 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
   }
   return result;
 }
-
 
 // The seam in input numbering, for the response and the primitive's extras.seam.
 json seam_summary(const core::SeamResult& seam, const std::vector<core::EdgeId>& cut_edges, const Surface& s,
@@ -422,7 +424,7 @@ ApiResult<SeamCut> seam_and_cuts(const Surface& surface, const std::vector<core:
     features = std::move(found->edges);
   }
   if (features.empty()) {
-    auto seam = core::compute_seam(surface.mesh, terminals, options, cancel);
+    auto seam = core::compute_seam(surface.mesh, surface.topology, terminals, options, cancel);
     if (!seam.ok()) return map_core_error(seam.error(), surface.canon, seam.error().code);
     out.seam = std::move(seam).value();
     out.cut_edges = core::all_cut_edges(out.seam);
@@ -505,8 +507,7 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   if (cancel.is_cancelled()) return timeout("welding");
 
   t = Clock::now();
-  SEAM_TRY(const std::vector<core::VertexId> terminals,
-           resolve_extrema(extrema, data, surface.canon, surface.mesh, options, cancel));
+  SEAM_TRY(const std::vector<core::VertexId> terminals, resolve_extrema(extrema, data, surface, options, cancel));
   timings["extrema"] = ms_since(t);
 
   t = Clock::now();
@@ -533,7 +534,7 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   if (params.uv) {
     core::UvOptions uv_options;
     uv_options.method = *params.uv;
-    auto flattened = core::parameterize(cut->mesh, uv_options, cancel);
+    auto flattened = core::parameterize(cut->mesh, cut_topology, uv_options, cancel);
     if (!flattened.ok()) return from_core(flattened.error());
     uv = std::move(flattened).value();
   }

@@ -125,7 +125,7 @@ void paired(const std::string& name, const core::HalfedgeMesh& disc, int pairs) 
   core::UvResult d, f;
   for (int i = 0; i < pairs; ++i) {
     bff.push_back(bench::best_ms(1, [&] { (void)core::parameterize(disc, {.method = core::UvMethod::kBff}); }));
-    def.push_back(bench::best_ms(1, [&] { d = core::parameterize(disc, {}).value(); }));
+    def.push_back(bench::best_ms(1, [&] { d = core::parameterize(disc).value(); }));
     full.push_back(bench::best_ms(1, [&] { f = core::parameterize(disc, {.multilevel_min_faces = 0}).value(); }));
   }
   const double ratio = median(def) / median(bff);

@@ -579,10 +579,22 @@ Result<std::vector<Peak>> separated(const EdgeGraph& graph, const Component& com
 Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOptions& options,
                                      const CancelToken& cancel) {
   const auto start = std::chrono::steady_clock::now();
+  const Topology topology = compute_topology(mesh);
+  SEAM_TRY(ExtremaResult result, detect_extrema(mesh, topology, options, cancel));
+  result.stats.milliseconds =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const Topology& topo, const ExtremaOptions& options,
+                                     const CancelToken& cancel) {
+  const auto start = std::chrono::steady_clock::now();
   if (auto st = validate(options); !st.ok()) return st.take_error();
+  if (topo.face_component.size() != mesh.num_faces() || topo.vertex_component.size() != mesh.num_vertices()) {
+    return make_error(ErrorCode::kInvalidArgument, "the topology was not computed from this mesh");
+  }
 
   ExtremaResult result;
-  const Topology topo = compute_topology(mesh);
   const std::vector<double> area = vertex_areas(mesh);
   const std::vector<Component> components = collect_components(mesh, topo, area);
   const EdgeGraph graph = build_edge_graph(mesh);

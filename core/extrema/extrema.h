@@ -44,6 +44,7 @@
 #include "core/cancel.h"
 #include "core/error.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
 
 namespace seam::core {
 
@@ -112,6 +113,13 @@ struct ExtremaResult {
 /// O(V log V) for the merge tree, plus one Dijkstra bounded by the separation radius per
 /// candidate tip (O(V) memory each); memory O(threads * V).
 Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOptions& options = {},
+                                     const CancelToken& cancel = CancelToken::none());
+
+/// The same with the mesh's topology (compute_topology(mesh)) from the caller, which a request
+/// has already computed. Errors as above, and kInvalidArgument when `topology` does not have
+/// the mesh's faces and vertices.
+Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const Topology& topology,
+                                     const ExtremaOptions& options = {},
                                      const CancelToken& cancel = CancelToken::none());
 
 /// Finds protrusion tips on every component: the vertices of detect_extrema() in its order.

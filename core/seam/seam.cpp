@@ -523,14 +523,23 @@ std::vector<EdgeId> all_cut_edges(const SeamResult& seam) {
 
 Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const VertexId> extrema, const SeamOptions& options,
                                 const CancelToken& cancel) {
+  const auto start = Clock::now();
+  const Topology topology = compute_topology(mesh);
+  const double topology_ms = ms_since(start);
+  SEAM_TRY(SeamResult result, compute_seam(mesh, topology, extrema, options, cancel));
+  result.stats.preprocess_ms += topology_ms;
+  return result;
+}
+
+Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, const Topology& topo, std::span<const VertexId> extrema,
+                                const SeamOptions& options, const CancelToken& cancel) {
   SeamResult result;
   SEAM_TRY(result.extrema, distinct_extrema(mesh, extrema));
   if (mesh.num_faces() == 0) return make_error(ErrorCode::kEmptyMesh, "the mesh has no faces");
   if (auto costs = check_edge_costs(mesh, options); !costs.ok()) return costs.take_error();
-
-  auto start = Clock::now();
-  const Topology topo = compute_topology(mesh);
-  result.stats.preprocess_ms += ms_since(start);
+  if (topo.face_component.size() != mesh.num_faces() || topo.vertex_component.size() != mesh.num_vertices()) {
+    return make_error(ErrorCode::kInvalidArgument, "the topology was not computed from this mesh");
+  }
 
   std::vector<std::vector<VertexId>> per_component(topo.components.size());
   for (VertexId x : result.extrema) per_component[topo.vertex_component[x]].push_back(x);
@@ -572,7 +581,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const Vertex
 
   // The contract: seam plus cut graph opens every component into one disc. Checked here,
   // on the real cut, so a bug anywhere above is a typed error and not a wrong answer.
-  start = Clock::now();
+  const auto start = Clock::now();
   const std::vector<EdgeId> all = all_cut_edges(result);
   // Counting wedges, edges and faces per part gives the same answer as building the cut mesh
   // (core/mesh/cut_check.h) at a fraction of the cost on large meshes.

@@ -9,6 +9,7 @@
 #include "core/cancel.h"
 #include "core/error.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
 
 namespace seam::core {
 
@@ -90,6 +91,12 @@ std::vector<EdgeId> all_cut_edges(const SeamResult& seam);
 /// (kOptimal above options.optimal_max_terminals), kTopologyViolation (a bug: the result
 /// does not cut every component into a disc), kCancelled.
 Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const VertexId> extrema,
+                                const SeamOptions& options = {}, const CancelToken& cancel = CancelToken::none());
+
+/// The same with the mesh's topology (compute_topology(mesh)) from the caller, which a request
+/// has already computed; SeamStats::preprocess_ms then leaves it out. Errors as above, and
+/// kInvalidArgument when `topology` does not have the mesh's faces and vertices.
+Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, const Topology& topology, std::span<const VertexId> extrema,
                                 const SeamOptions& options = {}, const CancelToken& cancel = CancelToken::none());
 
 }  // namespace seam::core

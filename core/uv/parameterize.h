@@ -6,6 +6,7 @@
 #include "core/cancel.h"
 #include "core/error.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/topology.h"
 
 namespace seam::core {
 
@@ -112,6 +113,12 @@ struct UvResult {
 /// Complexity: one or two sparse Cholesky factorizations per chart (see lscm.h, bff.h, arap.h),
 /// plus one per SLIM step (slim.h), on the coarse chart from multilevel_min_faces on.
 Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& options = {},
+                              const CancelToken& cancel = CancelToken::none());
+
+/// The same with the mesh's topology (compute_topology(disc_mesh)) from the caller, which a
+/// request has already computed. Errors as above, and kInvalidArgument when `topology` does
+/// not have the mesh's faces and vertices.
+Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const Topology& topology, const UvOptions& options = {},
                               const CancelToken& cancel = CancelToken::none());
 
 /// Measures the distortion of a given per-vertex UV map (see Distortion). uv.size() must be

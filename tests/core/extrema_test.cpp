@@ -467,3 +467,20 @@ TEST_CASE("extrema: CGAL hand, a fist: the raised thumb and the wrist") {
                            {"wrist: lowest z above y = 0.2 (70)", Vec3(0, 0, -1),
                             [](const Vec3& p) { return p.y() > 0.2; }, 2, 0.25}});
 }
+
+TEST_CASE("extrema with the caller's topology: the same tips, and a topology of another mesh is refused") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
+  const HalfedgeMesh other = seam::test_data::load_cgal_halfedge("mushroom");
+  auto own = detect_extrema(mesh);
+  auto given = detect_extrema(mesh, compute_topology(mesh));
+  REQUIRE(own.ok());
+  REQUIRE(given.ok());
+  REQUIRE(own->extrema.size() == given->extrema.size());
+  for (std::size_t i = 0; i < own->extrema.size(); ++i) {
+    CHECK(own->extrema[i].vertex == given->extrema[i].vertex);
+    CHECK(own->extrema[i].prominence == given->extrema[i].prominence);
+  }
+  auto wrong = detect_extrema(mesh, compute_topology(other));
+  REQUIRE_FALSE(wrong.ok());
+  CHECK(wrong.error().code == ErrorCode::kInvalidArgument);
+}

@@ -440,3 +440,19 @@ TEST_CASE("the default map is overlap-free: no UV point covered twice, counted b
           0.01 * loose_raster.covered * loose_raster.sample_area + 1e-9);
   }
 }
+
+TEST_CASE("parameterize with the caller's topology: the same map, and a topology of another mesh is refused") {
+  const HalfedgeMesh mesh = build(seam::fixtures::disc(8, 24));
+  const HalfedgeMesh other = build(seam::fixtures::disc(4, 12));
+  auto own = parameterize(mesh, {.method = UvMethod::kSlim});
+  auto given = parameterize(mesh, compute_topology(mesh), {.method = UvMethod::kSlim});
+  REQUIRE(own.ok());
+  REQUIRE(given.ok());
+  REQUIRE(own->uv.size() == given->uv.size());
+  bool same = true;
+  for (std::size_t v = 0; v < own->uv.size(); ++v) same = same && own->uv[VertexId(v)] == given->uv[VertexId(v)];
+  CHECK(same);
+  auto wrong = parameterize(mesh, compute_topology(other), {.method = UvMethod::kSlim});
+  REQUIRE_FALSE(wrong.ok());
+  CHECK(wrong.error().code == ErrorCode::kInvalidArgument);
+}

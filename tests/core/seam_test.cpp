@@ -501,3 +501,18 @@ TEST_CASE("threads: the moves' other starts beside the refinement give the same 
     CHECK(r.error().code == ErrorCode::kCancelled);
   }
 }
+
+TEST_CASE("compute_seam with the caller's topology: the same seam, and a topology of another mesh is refused") {
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("knot1");
+  const HalfedgeMesh other = seam::test_data::load_cgal_halfedge("hand");
+  const auto extrema = fx::farthest_point_extrema(mesh, 5);
+  auto own = compute_seam(mesh, extrema);
+  auto given = compute_seam(mesh, compute_topology(mesh), extrema);
+  REQUIRE(own.ok());
+  REQUIRE(given.ok());
+  CHECK(own->seam_edges == given->seam_edges);
+  CHECK(own->cut_graph_edges == given->cut_graph_edges);
+  auto wrong = compute_seam(mesh, compute_topology(other), extrema);
+  REQUIRE_FALSE(wrong.ok());
+  CHECK(wrong.error().code == ErrorCode::kInvalidArgument);
+}
