@@ -590,9 +590,7 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const Topology& t
                                      const CancelToken& cancel) {
   const auto start = std::chrono::steady_clock::now();
   if (auto st = validate(options); !st.ok()) return st.take_error();
-  if (topo.face_component.size() != mesh.num_faces() || topo.vertex_component.size() != mesh.num_vertices()) {
-    return make_error(ErrorCode::kInvalidArgument, "the topology was not computed from this mesh");
-  }
+  if (auto own = check_topology_of(mesh, topo); !own.ok()) return own.take_error();
 
   ExtremaResult result;
   const std::vector<double> area = vertex_areas(mesh);

@@ -34,6 +34,13 @@ std::vector<std::vector<HalfedgeId>> boundary_loops(const HalfedgeMesh& mesh) {
   return loops;
 }
 
+Status check_topology_of(const HalfedgeMesh& mesh, const Topology& topology) {
+  if (topology.face_component.size() != mesh.num_faces() || topology.vertex_component.size() != mesh.num_vertices()) {
+    return make_error(ErrorCode::kInvalidArgument, "the topology was not computed from this mesh");
+  }
+  return Ok{};
+}
+
 Topology compute_topology(const HalfedgeMesh& mesh) {
   Topology topo;
   const std::uint32_t kNone = VertexId::kInvalidValue;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/error.h"
 #include "core/mesh/halfedge_mesh.h"
 
 namespace seam::core {
@@ -40,5 +41,9 @@ std::vector<std::vector<HalfedgeId>> boundary_loops(const HalfedgeMesh& mesh);
 
 /// Computes components, boundary loops, Euler characteristic and genus. O(V + E + F).
 Topology compute_topology(const HalfedgeMesh& mesh);
+
+/// For entry points that take a caller's topology: kInvalidArgument when `topology` does not
+/// have `mesh`'s faces and vertices (it was computed from another mesh). O(1).
+Status check_topology_of(const HalfedgeMesh& mesh, const Topology& topology);
 
 }  // namespace seam::core

@@ -537,9 +537,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, const Topology& topo, 
   SEAM_TRY(result.extrema, distinct_extrema(mesh, extrema));
   if (mesh.num_faces() == 0) return make_error(ErrorCode::kEmptyMesh, "the mesh has no faces");
   if (auto costs = check_edge_costs(mesh, options); !costs.ok()) return costs.take_error();
-  if (topo.face_component.size() != mesh.num_faces() || topo.vertex_component.size() != mesh.num_vertices()) {
-    return make_error(ErrorCode::kInvalidArgument, "the topology was not computed from this mesh");
-  }
+  if (auto own = check_topology_of(mesh, topo); !own.ok()) return own.take_error();
 
   std::vector<std::vector<VertexId>> per_component(topo.components.size());
   for (VertexId x : result.extrema) per_component[topo.vertex_component[x]].push_back(x);

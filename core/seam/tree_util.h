@@ -102,7 +102,8 @@ inline std::vector<EdgeId> prune_dangling(const HalfedgeMesh& mesh, std::vector<
       removed_edge[i] = 1;
       const std::uint32_t w = tree.ends[s ^ 1u];
       --degree[v];
-      if (--degree[w] == 1 && !is_terminal[w]) work.push_back(w);
+      --degree[w];
+      if (dangling(w)) work.push_back(w);
       break;
     }
   }

@@ -242,17 +242,13 @@ Status finish_atlas(const HalfedgeMesh& disc_mesh, const std::vector<DiscPatch>&
 }  // namespace
 
 Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const UvOptions& options, const CancelToken& cancel) {
-  if (Status valid = validate(disc_mesh, options); !valid.ok()) return valid.take_error();
   return parameterize(disc_mesh, compute_topology(disc_mesh), options, cancel);
 }
 
 Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const Topology& topology, const UvOptions& options,
                               const CancelToken& cancel) {
   if (Status valid = validate(disc_mesh, options); !valid.ok()) return valid.take_error();
-  if (topology.face_component.size() != disc_mesh.num_faces() ||
-      topology.vertex_component.size() != disc_mesh.num_vertices()) {
-    return make_error(ErrorCode::kInvalidArgument, "the topology was not computed from this mesh");
-  }
+  if (auto own = check_topology_of(disc_mesh, topology); !own.ok()) return own.take_error();
   SEAM_TRY(std::vector<DiscPatch> patches, extract_disc_patches(disc_mesh, topology));
 
   UvResult result;
