@@ -48,16 +48,16 @@ void quality_table(bool quick) {
                   mesh.num_faces());
       continue;
     }
-    const EdgeGraph graph = build_edge_graph(mesh);
+    const SearchSurface surface(mesh);
     for (std::size_t k : {4u, 6u, 8u}) {
-      const auto extrema = fixtures::farthest_point_extrema(mesh, graph, k);
-      auto paths = compute_terminal_paths(mesh, graph, extrema);
+      const auto extrema = fixtures::farthest_point_extrema(mesh, surface.graph(), k);
+      auto paths = compute_terminal_paths(surface, extrema);
       SkeletonTrace plain_trace, refined_trace;
-      auto plain = skeleton_seam_traced(mesh, graph, {}, *paths, {.refine = false}, &plain_trace);
-      auto refined = skeleton_seam_traced(mesh, graph, {}, *paths, {.refine = true}, &refined_trace);
-      auto mst = mst_seam(mesh, graph, {}, *paths);
-      auto greedy = greedy_seam(mesh, graph, {}, extrema);
-      auto optimal = optimal_seam(mesh, graph, {}, extrema, 10);
+      auto plain = skeleton_seam_traced(surface, *paths, {.refine = false}, &plain_trace);
+      auto refined = skeleton_seam_traced(surface, *paths, {.refine = true}, &refined_trace);
+      auto mst = mst_seam(surface, *paths);
+      auto greedy = greedy_seam(surface, extrema);
+      auto optimal = optimal_seam(surface, extrema, 10);
       const double opt = optimal.ok() ? optimal->length : 0.0;
       const double m = mst.ok() ? mst->length : 0.0;
       const double g = greedy.ok() ? greedy->length : 0.0;
@@ -84,17 +84,17 @@ void timing_table(bool quick) {
   if (quick) sizes.resize(1);
   for (const auto& size : sizes) {
     const HalfedgeMesh mesh = build(bench::subdivide_to(bench::load_cgal(size.name), size.faces));
-    const EdgeGraph graph = build_edge_graph(mesh);
+    const SearchSurface surface(mesh);
     for (std::size_t k : {4u, 8u, 16u, 32u}) {
-      const auto extrema = fixtures::farthest_point_extrema(mesh, graph, k);
+      const auto extrema = fixtures::farthest_point_extrema(mesh, surface.graph(), k);
       double paths_ms = 1e300, tour = 0, shrink = 0, straighten = 0, refine = 0, moves = 0, total = 1e300;
       std::size_t removals = 0, rejected = 0;
       const int reps = mesh.num_faces() > 500000 ? 1 : 3;
       for (int rep = 0; rep < reps; ++rep) {
         const double t0 = now_ms();
-        auto paths = compute_terminal_paths(mesh, graph, extrema);
+        auto paths = compute_terminal_paths(surface, extrema);
         const double t1 = now_ms();
-        auto r = skeleton_seam(mesh, graph, {}, *paths);
+        auto r = skeleton_seam(surface, *paths);
         const double t2 = now_ms();
         if (!r.ok()) {
           std::fprintf(stderr, "skeleton failed: %s\n", r.error().message.c_str());

@@ -112,9 +112,10 @@ void TerminalPaths::search_pair(std::size_t i, std::size_t j) const {
   if (std::isnan(distance_[i * size() + j])) set(i, j, ShortestPathTree::kUnreached, {});
 }
 
-Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                             std::span<const VertexId> terminals, unsigned threads,
-                                             const CancelToken& cancel) {
+Result<TerminalPaths> compute_terminal_paths(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                             unsigned threads, const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
+  const EdgeGraph& graph = surface.graph();
   if (auto st = validate_terminals(mesh, terminals); !st.ok()) return st.take_error();
   const std::size_t k = terminals.size();
   TerminalPaths result;
@@ -170,9 +171,11 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
   return result;
 }
 
-Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                               std::span<const VertexId> terminals, const CancelToken& cancel,
-                                               bool euclidean) {
+Result<TerminalPaths> terminal_paths_on_demand(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                               const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
+  const EdgeGraph& graph = surface.graph();
+  const bool euclidean = surface.euclidean();
   if (auto st = validate_terminals(mesh, terminals); !st.ok()) return st.take_error();
   const std::size_t k = terminals.size();
   // One search from all terminals (the workspace the pair searches reuse afterwards); each

@@ -10,9 +10,10 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
+#include "core/mesh/halfedge_mesh.h"
 #include "core/paths/geodesic.h"
 #include "core/paths/path_search.h"
-#include "core/mesh/halfedge_mesh.h"
+#include "core/paths/search_surface.h"
 
 namespace seam::core {
 
@@ -52,10 +53,10 @@ class TerminalPaths {
   std::size_t searches() const { return searches_; }
 
  private:
-  friend Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh&, const EdgeGraph&,
-                                                      std::span<const VertexId>, unsigned, const CancelToken&);
-  friend Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh&, const EdgeGraph&,
-                                                        std::span<const VertexId>, const CancelToken&, bool);
+  friend Result<TerminalPaths> compute_terminal_paths(const SearchSurface&, std::span<const VertexId>, unsigned,
+                                                      const CancelToken&);
+  friend Result<TerminalPaths> terminal_paths_on_demand(const SearchSurface&, std::span<const VertexId>,
+                                                        const CancelToken&);
   void set(std::size_t i, std::size_t j, double d, std::vector<HalfedgeId> path) const;
   void search_pair(std::size_t i, std::size_t j) const;
 
@@ -75,9 +76,8 @@ class TerminalPaths {
 /// regardless of the thread count.
 /// Errors: kInvalidArgument (fewer than 2 terminals, repeated or out-of-range terminal),
 /// kCancelled. Complexity: O(k E log V) work, k = number of terminals.
-Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                             std::span<const VertexId> terminals, unsigned threads = 0,
-                                             const CancelToken& cancel = CancelToken::none());
+Result<TerminalPaths> compute_terminal_paths(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                             unsigned threads = 0, const CancelToken& cancel = CancelToken::none());
 
 /// The same table filled on demand. The MST comes from one multi-source Dijkstra from all
 /// terminals (Mehlhorn 1988): each edge joining two Voronoi regions proposes the path
@@ -85,23 +85,27 @@ Result<TerminalPaths> compute_terminal_paths(const HalfedgeMesh& mesh, const Edg
 /// spanning tree of the complete distance graph whose proposed paths are shortest paths.
 /// Other pairs are searched (one early-exit Dijkstra from the lower-index terminal, whose
 /// other settled terminals are recorded too) when first asked for; the tour asks for few,
-/// mostly near, pairs. `graph` and `mesh` must outlive the table. `euclidean`: every edge of
-/// `graph` weighs at least the straight-line distance between its ends (e.g. the default
-/// Euclidean weights); pair searches are then A* towards the target, estimating the larger
-/// of that distance and the vertex's distance to its nearest terminal (kept from the first
-/// search, 8 bytes per vertex), which settles fewer vertices and gives the same distances.
+/// mostly near, pairs. `surface` must outlive the table. On a Euclidean surface
+/// (SearchSurface::euclidean) pair searches are A* towards the target, estimating the larger
+/// of the straight-line distance and the vertex's distance to its nearest terminal (kept from
+/// the first search, 8 bytes per vertex), which settles fewer vertices and gives the same
+/// distances.
 /// Errors: kInvalidArgument (as compute_terminal_paths), kCancelled (during the first search;
 /// later searches are not cancellable but each is one bounded Dijkstra).
 /// Complexity: O(E log V + k^2 log k) up front.
-Result<TerminalPaths> terminal_paths_on_demand(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                               std::span<const VertexId> terminals,
-                                               const CancelToken& cancel = CancelToken::none(),
-                                               bool euclidean = false);
+Result<TerminalPaths> terminal_paths_on_demand(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                               const CancelToken& cancel = CancelToken::none());
 
 /// Builds the SteinerTree summary (sorted unique edges, Steiner points, branches split at
 /// terminals and vertices of degree >= 3, length) from a set of edges forming a forest.
 /// `edge_weights` as in build_edge_graph (empty: Euclidean). O(|edges| log |edges|).
 SteinerTree make_steiner_tree(const HalfedgeMesh& mesh, std::span<const EdgeId> edges,
                               std::span<const VertexId> terminals, std::span<const double> edge_weights = {});
+
+/// The same, measured in `surface`'s weights.
+inline SteinerTree make_steiner_tree(const SearchSurface& surface, std::span<const EdgeId> edges,
+                                     std::span<const VertexId> terminals) {
+  return make_steiner_tree(surface.mesh(), edges, terminals, surface.edge_weights());
+}
 
 }  // namespace seam::core

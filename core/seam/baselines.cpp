@@ -76,10 +76,11 @@ struct NearestVisitor {
 
 }  // namespace
 
-Result<SteinerTree> mst_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
-                             const TerminalPaths& paths, const CancelToken& cancel) {
+Result<SteinerTree> mst_seam(const SearchSurface& surface, const TerminalPaths& paths, const CancelToken& cancel) {
   const std::size_t k = paths.size();
-  if (auto status = validate_terminals(graph, paths.terminals, "mst seam"); !status.ok()) return status.take_error();
+  if (auto status = validate_terminals(surface.graph(), paths.terminals, "mst seam"); !status.ok()) {
+    return status.take_error();
+  }
   std::vector<EdgeId> edges;
   std::size_t joined = 0;
   for (const auto& [i, j] : paths.mst) {
@@ -93,12 +94,14 @@ Result<SteinerTree> mst_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, s
   // Shortest paths along different MST edges may share or cross vertices; the union could
   // then hold a cycle, which would cut a piece off. Sheffer's seam is a tree, so keep the
   // minimum spanning forest of the union and drop dangling bits.
-  const auto tree_edges = pruned_spanning_forest(mesh, edges, paths.terminals, edge_weights);
-  return make_steiner_tree(mesh, tree_edges, paths.terminals, edge_weights);
+  const auto tree_edges = pruned_spanning_forest(surface.mesh(), edges, paths.terminals, surface.edge_weights());
+  return make_steiner_tree(surface, tree_edges, paths.terminals);
 }
 
-Result<SteinerTree> greedy_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
-                                std::span<const VertexId> terminals, const CancelToken& cancel) {
+Result<SteinerTree> greedy_seam(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
+  const EdgeGraph& graph = surface.graph();
   if (auto status = validate_terminals(graph, terminals, "greedy seam"); !status.ok()) return status.take_error();
   const std::size_t nv = graph.num_vertices();
   std::vector<std::uint8_t> pending(nv, 0);
@@ -150,12 +153,13 @@ Result<SteinerTree> greedy_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph
     }
     touched.clear();
   }
-  return make_steiner_tree(mesh, edges, terminals, edge_weights);
+  return make_steiner_tree(surface, edges, terminals);
 }
 
-Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
-                                 std::span<const VertexId> terminals, std::size_t max_terminals,
-                                 const CancelToken& cancel, double upper_bound) {
+Result<SteinerTree> optimal_seam(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                 std::size_t max_terminals, const CancelToken& cancel, double upper_bound) {
+  const HalfedgeMesh& mesh = surface.mesh();
+  const EdgeGraph& graph = surface.graph();
   const std::size_t k = terminals.size();
   if (k > max_terminals) {
     return make_error(ErrorCode::kTooManyTerminals,
@@ -198,15 +202,14 @@ Result<SteinerTree> optimal_seam(const HalfedgeMesh& mesh, const EdgeGraph& grap
   for (HalfedgeId h : tree.halfedges) edges.push_back(HalfedgeMesh::edge(h));
   // With positive weights the edges already form a tree; zero-weight (virtual) edges can tie
   // into a cycle, which the forest step removes without touching a terminal's only edge.
-  // Nothing is pruned: with a contracted graph (see seam.cpp) a path ends on a vertex that
-  // the graph never names, which must stay.
+  // Every end is kept, so only a cycle's edge can go.
   std::vector<VertexId> ends;
   for (EdgeId e : edges) {
     ends.push_back(mesh.tail(HalfedgeMesh::halfedge(e)));
     ends.push_back(mesh.head(HalfedgeMesh::halfedge(e)));
   }
-  const auto tree_edges = pruned_spanning_forest(mesh, edges, ends, edge_weights);
-  return make_steiner_tree(mesh, tree_edges, terminals, edge_weights);
+  const auto tree_edges = pruned_spanning_forest(mesh, edges, ends, surface.edge_weights());
+  return make_steiner_tree(surface, tree_edges, terminals);
 }
 
 }  // namespace seam::core

@@ -13,16 +13,6 @@ namespace seam::core {
 
 namespace {
 
-double weight_of(const HalfedgeMesh& mesh, std::span<const double> edge_weights, EdgeId e) {
-  return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
-}
-
-double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights, std::span<const EdgeId> edges) {
-  double length = 0.0;
-  for (EdgeId e : edges) length += weight_of(mesh, edge_weights, e);
-  return length;
-}
-
 // A branch between two nodes (terminals or vertices of degree >= 3), from a to b.
 struct KeyPath {
   std::vector<HalfedgeId> course;
@@ -33,11 +23,14 @@ struct KeyPath {
 // The current tree, its adjacency and key paths, and the moves tried on it. One per call.
 class Improver {
  public:
-  Improver(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> weights,
-           std::span<const VertexId> terminals)
-      : mesh_(mesh), weights_(weights), terminals_(terminals), search_(graph), graph_(graph),
-        is_terminal_(mesh.num_vertices(), 0), local_(mesh.num_vertices(), -1),
-        removed_edge_(mesh.num_edges(), 0) {
+  Improver(const SearchSurface& surface, std::span<const VertexId> terminals)
+      : surface_(surface),
+        mesh_(surface.mesh()),
+        terminals_(terminals),
+        search_(surface.graph()),
+        is_terminal_(mesh_.num_vertices(), 0),
+        local_(mesh_.num_vertices(), -1),
+        removed_edge_(mesh_.num_edges(), 0) {
     for (VertexId t : terminals) is_terminal_[t.index()] = 1;
   }
 
@@ -75,12 +68,11 @@ class Improver {
                           const std::vector<std::uint8_t>& attachable, double budget, std::vector<EdgeId>& added,
                           const CancelToken& cancel);
 
+  const SearchSurface& surface_;
   const HalfedgeMesh& mesh_;
-  std::span<const double> weights_;
   std::span<const VertexId> terminals_;
   PathSearch search_;
   std::vector<PathSearch> part_search_;  // one per part for junction(), made on first use
-  const EdgeGraph& graph_;
   std::vector<std::uint8_t> is_terminal_;
   std::vector<std::int32_t> local_;  // tree vertex -> index in vertices_, -1 off the tree
   std::vector<std::uint8_t> removed_edge_;
@@ -100,7 +92,7 @@ void Improver::index(std::vector<EdgeId> edges) {
   for (VertexId v : vertices_) local_[v.index()] = -1;
   edges_ = std::move(edges);
   std::sort(edges_.begin(), edges_.end());
-  length_ = tree_length(mesh_, weights_, edges_);
+  length_ = surface_.length(edges_);
   vertices_ = std::move(detail::TreeVertices(mesh_, edges_).vertices);
   out_.assign(vertices_.size(), {});
   for (std::size_t i = 0; i < vertices_.size(); ++i) local_[vertices_[i].index()] = static_cast<std::int32_t>(i);
@@ -132,7 +124,7 @@ KeyPath Improver::walk(HalfedgeId first) const {
   HalfedgeId h = first;
   for (;;) {
     path.course.push_back(h);
-    path.length += weight_of(mesh_, weights_, HalfedgeMesh::edge(h));
+    path.length += surface_.weight(HalfedgeMesh::edge(h));
     const std::int32_t x = local_[mesh_.head(h).index()];
     if (is_node(x)) break;
     const auto& out = out_[static_cast<std::size_t>(x)];
@@ -230,7 +222,7 @@ Result<double> Improver::rejoin(std::size_t parts, const std::vector<std::int32_
 Result<double> Improver::junction(const std::vector<std::int32_t>& part, const std::vector<std::uint8_t>& alive,
                                   const std::vector<std::uint8_t>& attachable, double budget,
                                   std::vector<EdgeId>& added, const CancelToken& cancel) {
-  while (part_search_.size() < 3) part_search_.emplace_back(graph_);
+  while (part_search_.size() < 3) part_search_.emplace_back(surface_.graph());
   for (std::int32_t p = 0; p < 3; ++p) {
     PathSearch& search = part_search_[static_cast<std::size_t>(p)];
     search.reset();
@@ -311,8 +303,8 @@ Result<bool> Improver::try_move(std::span<const std::size_t> removed, const Canc
   }
   candidate.insert(candidate.end(), added.begin(), added.end());
   // Paths to one junction may share a stretch (a cycle) or leave a part's old end dangling.
-  candidate = pruned_spanning_forest(mesh_, candidate, terminals_, weights_);
-  const double length = tree_length(mesh_, weights_, candidate);
+  candidate = pruned_spanning_forest(mesh_, candidate, terminals_, surface_.edge_weights());
+  const double length = surface_.length(candidate);
   if (!(length < length_ - slack) || !check_full_component_tree(mesh_, candidate, terminals_).ok()) return false;
   index(std::move(candidate));
   return true;
@@ -347,18 +339,15 @@ Result<bool> sweep(Improver& tree, const ImproveOptions& options, std::size_t ma
 
 }  // namespace
 
-Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                   std::span<const double> edge_weights, std::span<const VertexId> terminals,
+Result<ImproveResult> improve_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
                                    std::span<const EdgeId> edges, const ImproveOptions& options,
                                    const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
   if (auto valid = check_full_component_tree(mesh, edges, terminals); !valid.ok()) {
     return make_error(ErrorCode::kInvalidArgument,
                       "improve_tree needs a full-component tree: " + valid.error().message);
   }
-  if (!edge_weights.empty() && edge_weights.size() != mesh.num_edges()) {
-    return make_error(ErrorCode::kInvalidArgument, "edge_weights must be empty or have one weight per edge");
-  }
-  Improver tree(mesh, graph, edge_weights, terminals);
+  Improver tree(surface, terminals);
   tree.index(std::vector<EdgeId>(edges.begin(), edges.end()));
   ImproveResult result;
   result.stats.length_before = tree.length();
@@ -390,13 +379,13 @@ namespace {
 // between equally long ones).
 class NearestTerminalGrowth {
  public:
-  NearestTerminalGrowth(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const VertexId> terminals)
-      : mesh_(mesh),
-        graph_(graph),
-        dist_(mesh.num_vertices(), kUnreached),
-        parent_(mesh.num_vertices()),
-        terminal_(mesh.num_vertices(), 0),
-        in_tree_(mesh.num_vertices(), 0) {
+  NearestTerminalGrowth(const SearchSurface& surface, std::span<const VertexId> terminals)
+      : mesh_(surface.mesh()),
+        graph_(surface.graph()),
+        dist_(mesh_.num_vertices(), kUnreached),
+        parent_(mesh_.num_vertices()),
+        terminal_(mesh_.num_vertices(), 0),
+        in_tree_(mesh_.num_vertices(), 0) {
     for (VertexId t : terminals) terminal_[t.index()] = 1;
   }
 
@@ -476,11 +465,11 @@ class NearestTerminalGrowth {
 
 }  // namespace
 
-Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                                  std::span<const VertexId> terminals, const CancelToken& cancel,
-                                                  std::size_t max_settled) {
+Result<std::vector<EdgeId>> nearest_terminal_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                                  const CancelToken& cancel, std::size_t max_settled) {
   if (terminals.size() < 2) return make_error(ErrorCode::kInvalidArgument, "needs at least two terminals");
-  NearestTerminalGrowth growth(mesh, graph, terminals);
+  const HalfedgeMesh& mesh = surface.mesh();
+  NearestTerminalGrowth growth(surface, terminals);
   growth.mark_in_tree(terminals[0]);
   growth.add_source(terminals[0]);
   std::vector<EdgeId> edges;

@@ -12,8 +12,7 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
-#include "core/paths/geodesic.h"
-#include "core/mesh/halfedge_mesh.h"
+#include "core/paths/search_surface.h"
 
 namespace seam::core {
 
@@ -61,12 +60,11 @@ struct ImproveResult {
 ///   rejoined greedily (Prim over the parts: the nearest part first, each new path joinable).
 /// Every search starts from the smaller side, is bounded by the length it must beat, and
 /// blocks the rest of the tree, so a move costs a few local Dijkstra runs.
-/// `graph` was built from `mesh` with `edge_weights` (empty: Euclidean); lengths are in
-/// those weights. Errors: kInvalidArgument (input not a full-component tree), kCancelled.
+/// Lengths are in `surface`'s weights. Errors: kInvalidArgument (input not a full-component
+/// tree), kCancelled.
 /// Complexity per pass: O(sum over moves of n_m log n_m), n_m = vertices within the removed
 /// length of the smaller side. Deterministic (ties by vertex id).
-Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                   std::span<const double> edge_weights, std::span<const VertexId> terminals,
+Result<ImproveResult> improve_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
                                    std::span<const EdgeId> edges, const ImproveOptions& options = {},
                                    const CancelToken& cancel = CancelToken::none());
 
@@ -81,8 +79,7 @@ Result<ImproveResult> improve_tree(const HalfedgeMesh& mesh, const EdgeGraph& gr
 /// Errors: kInvalidArgument (fewer than two terminals, or a terminal that cannot be joined
 /// that way, e.g. two adjacent terminals first), kCancelled. O(k E log V) at worst; about
 /// O(E log V) when the tree spreads evenly.
-Result<std::vector<EdgeId>> nearest_terminal_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                                  std::span<const VertexId> terminals,
+Result<std::vector<EdgeId>> nearest_terminal_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
                                                   const CancelToken& cancel = CancelToken::none(),
                                                   std::size_t max_settled = SIZE_MAX);
 

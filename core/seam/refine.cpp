@@ -19,18 +19,13 @@ namespace seam::core {
 
 namespace {
 
-
-double weight_of(const HalfedgeMesh& mesh, std::span<const double> edge_weights, EdgeId e) {
-  return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
-}
-
 // Dreyfus–Wagner (the shared kernel) on a region of the mesh, with port *sets*: port i may
 // be joined at any vertex of its set (a loose subtree's non-terminal vertices, or a loose
 // terminal alone).
 class LocalSteiner {
  public:
-  explicit LocalSteiner(const HalfedgeMesh& mesh, const EdgeGraph& graph) : graph_(graph) {
-    local_of_.assign(mesh.num_vertices(), -1);
+  explicit LocalSteiner(const SearchSurface& surface) : graph_(surface.graph()) {
+    local_of_.assign(surface.mesh().num_vertices(), -1);
   }
 
   // `region`: global vertices; `obstacle[i]`, `terminal[i]`, `port_mask[i]` per region vertex.
@@ -136,7 +131,7 @@ struct PieceBranches {
 };
 
 // The branches at a piece, each oriented from its outer end towards the piece.
-PieceBranches branches_at(const HalfedgeMesh& mesh, std::span<const double> edge_weights, const TreeTopology& topo,
+PieceBranches branches_at(const SearchSurface& surface, const TreeTopology& topo,
                           const std::vector<std::uint32_t>& piece) {
   auto in_piece = [&](std::uint32_t node) { return std::find(piece.begin(), piece.end(), node) != piece.end(); };
   PieceBranches out;
@@ -149,7 +144,7 @@ PieceBranches branches_at(const HalfedgeMesh& mesh, std::span<const double> edge
       std::reverse(br.course.begin(), br.course.end());
       for (auto& h : br.course) h = HalfedgeMesh::twin(h);
     }
-    for (HalfedgeId h : br.course) br.length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(h));
+    br.length = surface.path_length(br.course);
     out.longest = std::max(out.longest, br.length);
     out.branches.push_back(std::move(br));
   }
@@ -164,9 +159,9 @@ struct PieceCut {
 
 // Cuts each branch loose up to `reach` from the piece (internal branches entirely), stamping
 // the removed edges with `stamp`.
-PieceCut cut_branches(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
-                      const std::vector<Branch>& branches, double reach, std::vector<std::uint32_t>& removed_stamp,
-                      std::uint32_t stamp) {
+PieceCut cut_branches(const SearchSurface& surface, const std::vector<Branch>& branches, double reach,
+                      std::vector<std::uint32_t>& removed_stamp, std::uint32_t stamp) {
+  const HalfedgeMesh& mesh = surface.mesh();
   PieceCut out;
   for (const auto& br : branches) {
     // Keep the outer part of the branch: edges whose far end is more than `reach` from the
@@ -175,7 +170,7 @@ PieceCut cut_branches(const HalfedgeMesh& mesh, std::span<const double> edge_wei
     std::size_t cut = 0;  // course[cut..] is removed
     if (!br.internal) {
       while (cut < br.course.size() && from_piece > reach) {
-        from_piece -= weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[cut]));
+        from_piece -= surface.weight(HalfedgeMesh::edge(br.course[cut]));
         ++cut;
       }
       // `cut` edges leave the outer end; stop one short if that already is within reach.
@@ -185,7 +180,7 @@ PieceCut cut_branches(const HalfedgeMesh& mesh, std::span<const double> edge_wei
     if (cut < br.course.size()) out.removed_vertices.push_back(mesh.tail(br.course[cut]));
     for (std::size_t i = cut; i < br.course.size(); ++i) {
       removed_stamp[HalfedgeMesh::edge(br.course[i]).index()] = stamp;
-      out.removed_length += weight_of(mesh, edge_weights, HalfedgeMesh::edge(br.course[i]));
+      out.removed_length += surface.weight(HalfedgeMesh::edge(br.course[i]));
       out.removed_vertices.push_back(mesh.head(br.course[i]));
     }
   }
@@ -206,15 +201,15 @@ struct PieceRegion {
 // first fitting a from there, which finds the same a as trying 0, 1, ... in turn. At 1.25M
 // faces pieces mostly settle at a = 3, and each reach that does not fit costs a search of
 // max_region vertices. The kept cut stamps its removed edges with the current `stamp`.
-Result<PieceRegion> piece_region(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
-                                 const std::vector<Branch>& branches, double longest, const RefineOptions& options,
-                                 Regions& regions, std::vector<std::uint32_t>& removed_stamp, std::uint32_t& stamp,
-                                 int& hint, RefineStats& st, const CancelToken& cancel) {
+Result<PieceRegion> piece_region(const SearchSurface& surface, const std::vector<Branch>& branches, double longest,
+                                 const RefineOptions& options, Regions& regions,
+                                 std::vector<std::uint32_t>& removed_stamp, std::uint32_t& stamp, int& hint,
+                                 RefineStats& st, const CancelToken& cancel) {
   constexpr int kReaches = 5;
   auto at = [&](int a) -> Result<PieceRegion> {
     const double reach = std::ldexp(options.reach * longest, -a);  // exact: halving, a times
     PieceRegion out;
-    out.cut = cut_branches(mesh, edge_weights, branches, reach, removed_stamp, ++stamp);
+    out.cut = cut_branches(surface, branches, reach, removed_stamp, ++stamp);
     SEAM_TRY(const Regions::Found found, regions.find(out.cut.removed_vertices, reach, options.max_region, cancel));
     st.region_searches += found.searched ? 1 : 0;
     out.region = found.region;
@@ -306,12 +301,6 @@ std::uint64_t problem_key(std::span<const VertexId> region, const std::vector<st
   return h;
 }
 
-double tree_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights, std::span<const EdgeId> edges) {
-  double total = 0.0;
-  for (EdgeId e : edges) total += weight_of(mesh, edge_weights, e);
-  return total;
-}
-
 // What trying one piece came to.
 enum class PieceOutcome {
   kNoMove,      // skipped, or no shorter tree through it
@@ -329,17 +318,16 @@ struct PieceMove {
 // work done and the local problems known to have no cheaper tree.
 class PieceRefiner {
  public:
-  PieceRefiner(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
-               std::span<const VertexId> terminals, const RefineOptions& options)
-      : mesh_(mesh),
-        edge_weights_(edge_weights),
+  PieceRefiner(const SearchSurface& surface, std::span<const VertexId> terminals, const RefineOptions& options)
+      : surface_(surface),
+        mesh_(surface.mesh()),
         terminals_(terminals),
         options_(options),
-        is_terminal_(mesh.num_vertices(), 0),
-        regions_(graph, options.shortcuts),
-        solver_(mesh, graph),
-        removed_stamp_(mesh.num_edges(), 0),
-        in_rest_(mesh.num_vertices(), 0) {
+        is_terminal_(mesh_.num_vertices(), 0),
+        regions_(surface.graph(), options.shortcuts),
+        solver_(surface),
+        removed_stamp_(mesh_.num_edges(), 0),
+        in_rest_(mesh_.num_vertices(), 0) {
     for (VertexId t : terminals) is_terminal_[t.index()] = 1;
   }
 
@@ -351,14 +339,14 @@ class PieceRefiner {
   Result<PieceMove> try_piece(const TreeTopology& topo, const std::vector<std::uint32_t>& piece,
                               const std::vector<EdgeId>& current, double current_length, RefineStats& st,
                               const CancelToken& cancel) {
-    const auto [branches, longest] = branches_at(mesh_, edge_weights_, topo, piece);
+    const auto [branches, longest] = branches_at(surface_, topo, piece);
     ++st.pieces_tried;
     // The ports (one per branch not inside the piece) do not depend on the reach.
     const auto outer = static_cast<std::size_t>(
         std::count_if(branches.begin(), branches.end(), [](const Branch& br) { return !br.internal; }));
     if (outer < 2 || outer > options_.max_ports) return PieceMove{};
-    SEAM_TRY(const PieceRegion cut_region, piece_region(mesh_, edge_weights_, branches, longest, options_, regions_,
-                                                        removed_stamp_, stamp_, reach_hint_, st, cancel));
+    SEAM_TRY(const PieceRegion cut_region, piece_region(surface_, branches, longest, options_, regions_, removed_stamp_,
+                                                        stamp_, reach_hint_, st, cancel));
     const PieceCut& piece_cut = cut_region.cut;
     const std::vector<VertexId>* found = cut_region.region;
     const std::vector<VertexId>& ports = piece_cut.ports;
@@ -397,7 +385,7 @@ class PieceRefiner {
       return PieceMove{};
     }
     std::vector<EdgeId> candidate = rejoined(mesh_, std::move(rest), joined->halfedges, terminals_);
-    const double length = tree_length(mesh_, edge_weights_, candidate);
+    const double length = surface_.length(candidate);
     if (!(length < current_length - 1e-9 * (1.0 + current_length)) ||
         !check_full_component_tree(mesh_, candidate, terminals_).ok()) {
       return PieceMove{};
@@ -406,8 +394,8 @@ class PieceRefiner {
   }
 
  private:
+  const SearchSurface& surface_;
   const HalfedgeMesh& mesh_;
-  std::span<const double> edge_weights_;
   std::span<const VertexId> terminals_;
   const RefineOptions& options_;
   std::vector<std::uint8_t> is_terminal_;
@@ -423,26 +411,25 @@ class PieceRefiner {
 
 }  // namespace
 
-Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                 std::span<const double> edge_weights, std::span<const VertexId> terminals,
+Result<RefineResult> refine_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
                                  std::span<const EdgeId> edges, const RefineOptions& options,
                                  const CancelToken& cancel) {
   RefineStats st;
-  if (auto valid = check_full_component_tree(mesh, edges, terminals); !valid.ok()) {
+  if (auto valid = check_full_component_tree(surface.mesh(), edges, terminals); !valid.ok()) {
     return make_error(ErrorCode::kInvalidArgument, "refine_tree needs a full-component tree: " + valid.error().message);
   }
   std::vector<EdgeId> current(edges.begin(), edges.end());
   std::sort(current.begin(), current.end());
-  double current_length = tree_length(mesh, edge_weights, current);
+  double current_length = surface.length(current);
   st.length_before = current_length;
   if (options.max_ports > 20) return make_error(ErrorCode::kInvalidArgument, "max_ports above 20");
 
-  PieceRefiner refiner(mesh, graph, edge_weights, terminals, options);
+  PieceRefiner refiner(surface, terminals, options);
   for (int pass = 0; pass < options.max_passes; ++pass) {
     bool improved = false;
     std::size_t index = 0;
     std::size_t moves = 0;
-    SEAM_TRY(TreeTopology topo, skeleton_topology(mesh, graph, current, terminals, edge_weights, cancel));
+    SEAM_TRY(TreeTopology topo, skeleton_topology(surface, current, terminals, cancel));
     auto pieces = pieces_of(topo);
     while (index < pieces.size() && moves < 4 * pieces.size() + 8) {
       if (cancel.is_cancelled()) return cancelled_error("seam refinement");
@@ -456,7 +443,7 @@ Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& grap
       ++st.improvements;
       ++moves;
       // The tree changed: list its pieces again and go on from the same position.
-      SEAM_TRY(topo, skeleton_topology(mesh, graph, current, terminals, edge_weights, cancel));
+      SEAM_TRY(topo, skeleton_topology(surface, current, terminals, cancel));
       pieces = pieces_of(topo);
       --index;
     }

@@ -9,8 +9,7 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
-#include "core/paths/geodesic.h"
-#include "core/mesh/halfedge_mesh.h"
+#include "core/paths/search_surface.h"
 
 namespace seam::core {
 
@@ -54,19 +53,16 @@ struct RefineResult {
   RefineStats stats;
 };
 
-/// Shortens `edges` (a full-component tree on `terminals`: check_full_component_tree holds)
-/// while keeping every terminal a leaf. For each Steiner point s, and each pair of adjacent
-/// Steiner points, the branches at the piece are removed, which leaves k <= max_ports loose
-/// subtrees; they are reconnected by the minimum tree that may attach to any non-terminal
-/// vertex of a loose subtree (or to a loose terminal itself, as a leaf), passes through no
-/// terminal and no other part of the tree, and stays inside a region around the piece
-/// (Dreyfus–Wagner over the 2^k port subsets, with one Dijkstra per subset on the region).
-/// A move is kept only if the tree stays valid and gets shorter, so the result is never
-/// longer than the input. Errors: kInvalidArgument (input not a full-component tree, or
-/// max_ports above 20), kTopologyViolation (from skeleton_topology on the current tree),
-/// kCancelled. Complexity per piece: O(3^k n + 2^k n log n), n = region size.
-Result<RefineResult> refine_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                 std::span<const double> edge_weights, std::span<const VertexId> terminals,
+/// Shortens `edges` (a full-component tree on `terminals`: check_full_component_tree holds),
+/// measured in `surface`'s weights, while keeping every terminal a leaf. For each Steiner point s, and each pair of
+/// adjacent Steiner points, the branches at the piece are removed, which leaves k <= max_ports loose subtrees; they are
+/// reconnected by the minimum tree that may attach to any non-terminal vertex of a loose subtree (or to a loose
+/// terminal itself, as a leaf), passes through no terminal and no other part of the tree, and stays inside a region
+/// around the piece (Dreyfus–Wagner over the 2^k port subsets, with one Dijkstra per subset on the region). A move is
+/// kept only if the tree stays valid and gets shorter, so the result is never longer than the input. Errors:
+/// kInvalidArgument (input not a full-component tree, or max_ports above 20), kTopologyViolation (from
+/// skeleton_topology on the current tree), kCancelled. Complexity per piece: O(3^k n + 2^k n log n), n = region size.
+Result<RefineResult> refine_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
                                  std::span<const EdgeId> edges, const RefineOptions& options = {},
                                  const CancelToken& cancel = CancelToken::none());
 

@@ -89,17 +89,17 @@ Result<VertexId> farthest_vertex(const EdgeGraph& graph, VertexId source, const 
   return best;
 }
 
-Result<std::vector<EdgeId>> shortest_path_edges(const HalfedgeMesh& mesh, const EdgeGraph& graph, VertexId from,
-                                                VertexId to, const CancelToken& cancel) {
+Result<std::vector<EdgeId>> shortest_path_edges(const SearchSurface& work, VertexId from, VertexId to,
+                                                const CancelToken& cancel) {
   const VertexId sources[] = {from};
   const VertexId targets[] = {to};
-  SEAM_TRY(ShortestPathTree tree, dijkstra(graph, sources, {.targets = targets}, cancel));
+  SEAM_TRY(ShortestPathTree tree, dijkstra(work.graph(), sources, {.targets = targets}, cancel));
   if (!tree.reached(to)) {
     return make_error(ErrorCode::kInvalidArgument, "no path between terminals " + std::to_string(from.value()) +
                                                        " and " + std::to_string(to.value()));
   }
   std::vector<EdgeId> edges;
-  for (HalfedgeId h : trace_path(mesh, tree, to)) edges.push_back(HalfedgeMesh::edge(h));
+  for (HalfedgeId h : trace_path(work.mesh(), tree, to)) edges.push_back(HalfedgeMesh::edge(h));
   return edges;
 }
 
@@ -123,25 +123,24 @@ bool exact_is_cheap(const SeamOptions& options, std::size_t terminals, std::size
 // by it drops every state that cannot beat it: at 8 terminals on 10k-30k faces that took the
 // stage from 31-52x to 26-37x the paper's seam; with fewer terminals (<= 16 rows) the bound
 // costs more than it saves (seam_quality_bench --speed).
-Result<MethodTree> exact_tree(const HalfedgeMesh& work, const EdgeGraph& graph, std::span<const double> weights,
-                              std::span<const VertexId> terminals, const SeamOptions& options, SeamStats& stats,
-                              const CancelToken& cancel) {
+Result<MethodTree> exact_tree(const SearchSurface& work, std::span<const VertexId> terminals,
+                              const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
   if (terminals.size() < 6) {
     const auto start = Clock::now();
-    auto exact = optimal_seam(work, graph, weights, terminals, options.optimal_max_terminals, cancel);
+    auto exact = optimal_seam(work, terminals, options.optimal_max_terminals, cancel);
     stats.method_ms += ms_since(start);
     if (!exact.ok()) return exact.take_error();
     ++stats.exact_components;
     return MethodTree{std::move(exact->edges), true};
   }
   auto start = Clock::now();
-  SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, graph, terminals, cancel, weights.empty()));
+  SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, terminals, cancel));
   stats.paths_ms += ms_since(start);
   start = Clock::now();
   SEAM_TRY(SkeletonResult skeleton,
-           skeleton_seam(work, graph, weights, paths, SkeletonOptions{.refine = false, .improve = true}, cancel));
+           skeleton_seam(work, paths, SkeletonOptions{.refine = false, .improve = true}, cancel));
   const double bound = skeleton.tree.length * (1.0 + 1e-9) + 1e-12;
-  auto exact = optimal_seam(work, graph, weights, terminals, options.optimal_max_terminals, cancel, bound);
+  auto exact = optimal_seam(work, terminals, options.optimal_max_terminals, cancel, bound);
   stats.method_ms += ms_since(start);
   if (!exact.ok()) {
     // Too large a table: the heuristic tree stands, not claimed optimal.
@@ -155,10 +154,8 @@ Result<MethodTree> exact_tree(const HalfedgeMesh& work, const EdgeGraph& graph, 
 }
 
 // The tree on `work` (a closed genus-0 surface) for `terminals` by the chosen method.
-Result<MethodTree> run_method(const HalfedgeMesh& work, std::span<const double> weights,
-                                       std::span<const VertexId> terminals, const SeamOptions& options,
-                                       SeamStats& stats, const CancelToken& cancel) {
-  const EdgeGraph graph = build_edge_graph(work, weights);
+Result<MethodTree> run_method(const SearchSurface& work, std::span<const VertexId> terminals,
+                              const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
   if (options.method == SeamMethod::kOptimal && terminals.size() > options.optimal_max_terminals) {
     return make_error(ErrorCode::kTooManyTerminals,
                       "the optimal method takes at most " + std::to_string(options.optimal_max_terminals) +
@@ -168,38 +165,38 @@ Result<MethodTree> run_method(const HalfedgeMesh& work, std::span<const double> 
   if (terminals.size() == 2) {
     // §4.1: two terminals, the seam is their shortest path (the same for every method).
     auto start = Clock::now();
-    SEAM_TRY(auto edges, shortest_path_edges(work, graph, terminals[0], terminals[1], cancel));
+    SEAM_TRY(auto edges, shortest_path_edges(work, terminals[0], terminals[1], cancel));
     stats.paths_ms += ms_since(start);
     return MethodTree{std::move(edges), true};
   }
   SteinerTree tree;
-  if (exact_is_cheap(options, terminals.size(), work.num_vertices())) {
-    auto exact = exact_tree(work, graph, weights, terminals, options, stats, cancel);
+  if (exact_is_cheap(options, terminals.size(), work.mesh().num_vertices())) {
+    auto exact = exact_tree(work, terminals, options, stats, cancel);
     // A table above optimal_seam's memory cap: the heuristic below decides.
     if (exact.ok() || exact.error().code != ErrorCode::kTooManyTerminals) return exact;
   }
   if (options.method == SeamMethod::kSkeleton || options.method == SeamMethod::kMst) {
     auto start = Clock::now();
-    SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, graph, terminals, cancel, weights.empty()));
+    SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, terminals, cancel));
     stats.paths_ms += ms_since(start);
     start = Clock::now();
     if (options.method == SeamMethod::kSkeleton) {
-      SEAM_TRY(SkeletonResult skeleton, skeleton_seam(work, graph, weights, paths,
+      SEAM_TRY(SkeletonResult skeleton, skeleton_seam(work, paths,
                                                       SkeletonOptions{.refine = options.refine && options.local_refine,
                                                                       .improve = options.refine && options.improve,
                                                                       .threads = options.threads},
                                                       cancel));
       tree = std::move(skeleton.tree);
     } else {
-      SEAM_TRY(tree, mst_seam(work, graph, weights, paths, cancel));
+      SEAM_TRY(tree, mst_seam(work, paths, cancel));
     }
     stats.method_ms += ms_since(start);
   } else {
     auto start = Clock::now();
     if (options.method == SeamMethod::kGreedy) {
-      SEAM_TRY(tree, greedy_seam(work, graph, weights, terminals, cancel));
+      SEAM_TRY(tree, greedy_seam(work, terminals, cancel));
     } else {
-      SEAM_TRY(tree, optimal_seam(work, graph, weights, terminals, options.optimal_max_terminals, cancel));
+      SEAM_TRY(tree, optimal_seam(work, terminals, options.optimal_max_terminals, cancel));
     }
     stats.method_ms += ms_since(start);
   }
@@ -413,8 +410,7 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
   SEAM_TRY(ComponentSurface surface, open_component(mesh, topo, component, faces, cancel));
   out.cut_graph_edges = std::move(surface.cut_graph_edges);
   std::vector<VertexId> terminals = disc_terminals(surface, extrema);
-  const std::vector<double> penalized = method_edge_weights(surface, options);
-  const std::span<const double> weights = penalized;  // empty: Euclidean
+  std::vector<double> weights = method_edge_weights(surface, options);  // empty: Euclidean
   stats.preprocess_ms += ms_since(start);
 
   if (!surface.has_boundary && terminals.size() < 2) {
@@ -428,7 +424,8 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
   stats.terminals += terminals.size();
   if (terminals.size() < 2) return out;  // an open disc with no extrema inside: no seam
 
-  SEAM_TRY(MethodTree method_tree, run_method(surface.work(), weights, terminals, options, stats, cancel));
+  const SearchSurface work(surface.work(), std::move(weights));
+  SEAM_TRY(MethodTree method_tree, run_method(work, terminals, options, stats, cancel));
   out.exact = method_tree.exact;
   DiscSeam seam = seam_on_disc(surface, terminals, std::move(method_tree.edges));
   if (seam.widened) out.exact = false;  // the minimum (one edge) cannot be cut; its widening is not minimal

@@ -20,16 +20,9 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-Status validate_inputs(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
-                       const TerminalPaths& paths) {
+Status validate_inputs(const HalfedgeMesh& mesh, const TerminalPaths& paths) {
   const std::size_t k = paths.size();
   if (k < 2) return make_error(ErrorCode::kInvalidArgument, "the skeleton seam needs at least two terminals");
-  if (graph.num_vertices() != mesh.num_vertices()) {
-    return make_error(ErrorCode::kInvalidArgument, "the edge graph was not built from this mesh");
-  }
-  if (!edge_weights.empty() && edge_weights.size() != mesh.num_edges()) {
-    return make_error(ErrorCode::kInvalidArgument, "edge_weights must be empty or have one weight per edge");
-  }
   for (VertexId t : paths.terminals) {
     if (!t.valid() || t.index() >= mesh.num_vertices()) {
       return make_error(ErrorCode::kInvalidArgument, "terminal out of range", {t.value()});
@@ -63,14 +56,13 @@ struct StartTree {
 using Improve = std::function<Result<ImproveResult>(std::span<const EdgeId>, double& ms)>;
 
 // The main start: the refinement (refine.h), then the global moves (improve.h).
-Result<StartTree> refine_then_improve(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                      std::span<const double> edge_weights, std::span<const VertexId> terminals,
+Result<StartTree> refine_then_improve(const SearchSurface& surface, std::span<const VertexId> terminals,
                                       std::vector<EdgeId> edges, const SkeletonOptions& options, SkeletonTrace& tr,
                                       SkeletonResult& result, const Improve& improve, const CancelToken& cancel) {
   StartTree out{std::move(edges), 0.0};
   if (options.refine) {
     const auto start = std::chrono::steady_clock::now();
-    SEAM_TRY(RefineResult refined, refine_tree(mesh, graph, edge_weights, terminals, out.edges, {}, cancel));
+    SEAM_TRY(RefineResult refined, refine_tree(surface, terminals, out.edges, {}, cancel));
     out.edges = std::move(refined.edges);
     out.length = refined.stats.length_after;
     tr.refine_stats = refined.stats;
@@ -96,10 +88,10 @@ struct OtherStarts {
   void run_straightened(const HalfedgeMesh& mesh, std::span<const EdgeId> edges, const Improve& improve) {
     if (mesh.num_vertices() <= kOneStartVertices) straightened = improve(edges, improve_ms);
   }
-  void run_nearest(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const VertexId> terminals,
-                   const Improve& improve, const CancelToken& cancel) {
-    if (terminals.size() * mesh.num_vertices() / 2 > kStartBudget) return;
-    auto greedy = nearest_terminal_tree(mesh, graph, terminals, cancel, kStartBudget);
+  void run_nearest(const SearchSurface& surface, std::span<const VertexId> terminals, const Improve& improve,
+                   const CancelToken& cancel) {
+    if (terminals.size() * surface.mesh().num_vertices() / 2 > kStartBudget) return;
+    auto greedy = nearest_terminal_tree(surface, terminals, cancel, kStartBudget);
     if (!greedy.ok() && greedy.error().code == ErrorCode::kCancelled) {
       nearest = greedy.take_error();
     } else if (greedy.ok() && !greedy->empty()) {
@@ -116,35 +108,34 @@ struct OtherStarts {
 // seam_quality_bench), and the second is never longer than the refinement alone. With
 // options.threads >= 2 the other two run on a second thread beside the second; the starts do
 // not depend on each other, so the result is the same, and so is the first error met.
-Result<SkeletonResult> finish(const HalfedgeMesh& mesh, const EdgeGraph& graph, std::span<const double> edge_weights,
-                              std::span<const VertexId> terminals, std::vector<EdgeId> final_edges,
-                              const SkeletonOptions& options, SkeletonTrace& tr, SkeletonResult& result,
-                              const CancelToken& cancel) {
+Result<SkeletonResult> finish(const SearchSurface& surface, std::span<const VertexId> terminals,
+                              std::vector<EdgeId> final_edges, const SkeletonOptions& options, SkeletonTrace& tr,
+                              SkeletonResult& result, const CancelToken& cancel) {
   const Improve improve = [&](std::span<const EdgeId> edges, double& ms) -> Result<ImproveResult> {
     const auto start = std::chrono::steady_clock::now();
-    auto improved = improve_tree(mesh, graph, edge_weights, terminals, edges, {}, cancel);
+    auto improved = improve_tree(surface, terminals, edges, {}, cancel);
     ms += ms_since(start);
     return improved;
   };
   const std::vector<EdgeId> straightened = final_edges;
   auto main_start = [&] {
-    return refine_then_improve(mesh, graph, edge_weights, terminals, final_edges, options, tr, result, improve, cancel);
+    return refine_then_improve(surface, terminals, final_edges, options, tr, result, improve, cancel);
   };
   OtherStarts other;
   std::optional<Result<StartTree>> main;
   if (!(options.improve && options.refine)) {
     main = main_start();
   } else if (options.threads < 2) {
-    other.run_straightened(mesh, straightened, improve);
+    other.run_straightened(surface.mesh(), straightened, improve);
     if (!other.failed()) main = main_start();
-    if (!other.failed() && main->ok()) other.run_nearest(mesh, graph, terminals, improve, cancel);
+    if (!other.failed() && main->ok()) other.run_nearest(surface, terminals, improve, cancel);
   } else {
     std::exception_ptr failure;
     {
       const std::jthread beside([&] {
         try {
-          other.run_straightened(mesh, straightened, improve);
-          if (!other.failed()) other.run_nearest(mesh, graph, terminals, improve, cancel);
+          other.run_straightened(surface.mesh(), straightened, improve);
+          if (!other.failed()) other.run_nearest(surface, terminals, improve, cancel);
         } catch (...) {
           failure = std::current_exception();
         }
@@ -164,17 +155,17 @@ Result<SkeletonResult> finish(const HalfedgeMesh& mesh, const EdgeGraph& graph, 
       best = {std::move((**start)->edges), (**start)->stats.length_after};
     }
   }
-  result.tree = make_steiner_tree(mesh, best.edges, terminals, edge_weights);
+  result.tree = make_steiner_tree(surface, best.edges, terminals);
   return std::move(result);
 }
 
 }  // namespace
 
-Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                            std::span<const double> edge_weights, const TerminalPaths& paths,
+Result<SkeletonResult> skeleton_seam_traced(const SearchSurface& surface, const TerminalPaths& paths,
                                             const SkeletonOptions& options, SkeletonTrace* trace,
                                             const CancelToken& cancel) {
-  if (auto st = validate_inputs(mesh, graph, edge_weights, paths); !st.ok()) return st.take_error();
+  const HalfedgeMesh& mesh = surface.mesh();
+  if (auto st = validate_inputs(mesh, paths); !st.ok()) return st.take_error();
   SkeletonTrace local;
   SkeletonTrace& tr = trace ? *trace : local;
   tr = SkeletonTrace{};
@@ -185,7 +176,7 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
     // §4.1: with two terminals the seam is their shortest path.
     std::vector<EdgeId> edges;
     for (HalfedgeId h : paths.path_between(0, 1)) edges.push_back(HalfedgeMesh::edge(h));
-    result.tree = make_steiner_tree(mesh, edges, terminals, edge_weights);
+    result.tree = make_steiner_tree(surface, edges, terminals);
     result.stats.length_before_refine = result.tree.length;
     tr.straightened_length = result.tree.length;
     return result;
@@ -208,8 +199,8 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
     result.stats.shrink_ms = ms_since(start);
 
     start = std::chrono::steady_clock::now();
-    SEAM_TRY(auto topo, skeleton_topology(mesh, graph, tr.raw_skeleton, terminals, edge_weights, cancel));
-    SEAM_TRY(StraightenResult straight, straighten_topology(mesh, graph, edge_weights, topo, cancel));
+    SEAM_TRY(auto topo, skeleton_topology(surface, tr.raw_skeleton, terminals, cancel));
+    SEAM_TRY(StraightenResult straight, straighten_topology(surface, topo, cancel));
     tr.straighten_stats = straight.stats;
     result.stats.straighten_ms = ms_since(start);
     if (auto st = check_full_component_tree(mesh, topology_edges(straight.topology), terminals); !st.ok()) {
@@ -226,24 +217,23 @@ Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const Edge
     tr.fallback_reason = straight.error().message;
     result.stats.fallback = true;
     const auto start = std::chrono::steady_clock::now();
-    SEAM_TRY(auto edges, star_tree(mesh, graph, terminals, cancel));
+    SEAM_TRY(auto edges, star_tree(surface, terminals, cancel));
     result.stats.straighten_ms += ms_since(start);
-    tr.straightened_length = make_steiner_tree(mesh, edges, terminals, edge_weights).length;
+    tr.straightened_length = make_steiner_tree(surface, edges, terminals).length;
     result.stats.length_before_refine = tr.straightened_length;
     // The star is a full component too: the same refinement and global moves apply (without
     // them the fallback stayed up to 1.57x the optimum, elephant in seam_quality_bench).
-    return finish(mesh, graph, edge_weights, terminals, std::move(edges), options, tr, result, cancel);
+    return finish(surface, terminals, std::move(edges), options, tr, result, cancel);
   }
   tr.straightened = *straight;
-  tr.straightened_length = topology_length(mesh, edge_weights, tr.straightened);
+  tr.straightened_length = topology_length(surface, tr.straightened);
   result.stats.length_before_refine = tr.straightened_length;
-  return finish(mesh, graph, edge_weights, terminals, topology_edges(*straight), options, tr, result, cancel);
+  return finish(surface, terminals, topology_edges(*straight), options, tr, result, cancel);
 }
 
-Result<SkeletonResult> skeleton_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                     std::span<const double> edge_weights, const TerminalPaths& paths,
+Result<SkeletonResult> skeleton_seam(const SearchSurface& surface, const TerminalPaths& paths,
                                      const SkeletonOptions& options, const CancelToken& cancel) {
-  return skeleton_seam_traced(mesh, graph, edge_weights, paths, options, nullptr, cancel);
+  return skeleton_seam_traced(surface, paths, options, nullptr, cancel);
 }
 
 }  // namespace seam::core

@@ -6,8 +6,7 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
-#include "core/paths/geodesic.h"
-#include "core/mesh/halfedge_mesh.h"
+#include "core/paths/search_surface.h"
 #include "core/paths/steiner.h"
 
 namespace seam::core {
@@ -47,14 +46,15 @@ struct SkeletonResult {
   SkeletonStats stats;
 };
 
-/// Computes a full-component Steiner tree (every terminal a leaf) on `mesh`.
-/// Preconditions: `mesh` is one closed genus-0 component (boundaries already coned);
-/// `graph` was built from `mesh` with `edge_weights` (empty: Euclidean); `paths` are the
-/// pairwise shortest paths of the >= 2 terminals on that graph.
-/// Errors: kInvalidArgument (precondition violated), kCancelled.
+/// Computes a full-component Steiner tree (every terminal a leaf) on `surface`, measured in
+/// its weights. Preconditions: the mesh is one closed genus-0 component (boundaries already
+/// coned); `paths` are the pairwise shortest paths of the >= 2 terminals on `surface`.
+/// Errors: kInvalidArgument (fewer than two or out-of-range terminals, terminals not all
+/// connected, or no tree with every terminal a leaf exists: the star-tree fallback failed),
+/// kTopologyViolation (the refinement could not list the tree's structure; not expected on
+/// a valid full component), kCancelled.
 /// Complexity: O(k^2 log k) for the tour, O(E) for the shrink, O(s E log V) to straighten.
-Result<SkeletonResult> skeleton_seam(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                     std::span<const double> edge_weights, const TerminalPaths& paths,
+Result<SkeletonResult> skeleton_seam(const SearchSurface& surface, const TerminalPaths& paths,
                                      const SkeletonOptions& options = {},
                                      const CancelToken& cancel = CancelToken::none());
 

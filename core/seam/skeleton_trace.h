@@ -26,13 +26,8 @@ struct SkeletonTrace {
   std::string fallback_reason;
 };
 
-/// skeleton_seam, recording each stage into `trace` (may be null). Same contract.
-/// Errors: kInvalidArgument (fewer than two or out-of-range terminals, a graph or weights
-/// not built from this mesh, terminals not all connected, or no tree with every terminal a
-/// leaf exists: the star-tree fallback failed), kTopologyViolation (refinement could not
-/// list the tree's structure; not expected on a valid full component), kCancelled.
-Result<SkeletonResult> skeleton_seam_traced(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                            std::span<const double> edge_weights, const TerminalPaths& paths,
+/// skeleton_seam, recording each stage into `trace` (may be null). Same contract and errors.
+Result<SkeletonResult> skeleton_seam_traced(const SearchSurface& surface, const TerminalPaths& paths,
                                             const SkeletonOptions& options, SkeletonTrace* trace,
                                             const CancelToken& cancel = CancelToken::none());
 

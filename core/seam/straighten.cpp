@@ -72,12 +72,13 @@ Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeI
   return Ok{};
 }
 
-Result<std::vector<EdgeId>> star_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                      std::span<const VertexId> terminals, const CancelToken& cancel) {
+Result<std::vector<EdgeId>> star_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
+                                      const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
   const std::size_t nv = mesh.num_vertices();
   const std::size_t k = terminals.size();
   if (k < 2) return make_error(ErrorCode::kInvalidArgument, "a seam tree needs at least two terminals");
-  PathSearch search(graph);
+  PathSearch search(surface.graph());
   for (VertexId t : terminals) search.block(t);
   // Sum of terminal-avoiding distances from every terminal; the centre must be reached by all.
   std::vector<double> sum(nv, 0.0);
@@ -118,33 +119,16 @@ Result<std::vector<EdgeId>> star_tree(const HalfedgeMesh& mesh, const EdgeGraph&
 
 namespace {
 
-double edge_weight(const HalfedgeMesh& mesh, std::span<const double> edge_weights, HalfedgeId h) {
-  const EdgeId e = HalfedgeMesh::edge(h);
-  return edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
-}
-
 std::vector<HalfedgeId> reversed(const std::vector<HalfedgeId>& path) {
   std::vector<HalfedgeId> r(path.rbegin(), path.rend());
   for (auto& h : r) h = HalfedgeMesh::twin(h);
   return r;
 }
 
-double course_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
-                     const std::vector<HalfedgeId>& path) {
-  double total = 0.0;
-  for (HalfedgeId h : path) total += edge_weight(mesh, edge_weights, h);
-  return total;
-}
-
 }  // namespace
 
-double topology_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
-                       const TreeTopology& topology) {
-  double total = 0.0;
-  for (EdgeId e : topology_edges(topology)) {
-    total += edge_weights.empty() ? mesh.edge_length(e) : edge_weights[e.index()];
-  }
-  return total;
+double topology_length(const SearchSurface& surface, const TreeTopology& topology) {
+  return surface.length(topology_edges(topology));
 }
 
 namespace {
@@ -157,13 +141,14 @@ struct TerminalForest {
   UnionFind pieces;
 };
 
-TerminalForest terminal_forest(const HalfedgeMesh& mesh, std::span<const EdgeId> skeleton_edges,
-                               std::span<const VertexId> terminals, std::span<const double> edge_weights) {
+TerminalForest terminal_forest(const SearchSurface& surface, std::span<const EdgeId> skeleton_edges,
+                               std::span<const VertexId> terminals) {
+  const HalfedgeMesh& mesh = surface.mesh();
   const std::size_t nv = mesh.num_vertices();
   std::vector<EdgeId> sorted(skeleton_edges.begin(), skeleton_edges.end());
   std::sort(sorted.begin(), sorted.end(), [&](EdgeId a, EdgeId b) {
-    const double wa = edge_weight(mesh, edge_weights, HalfedgeMesh::halfedge(a));
-    const double wb = edge_weight(mesh, edge_weights, HalfedgeMesh::halfedge(b));
+    const double wa = surface.weight(a);
+    const double wb = surface.weight(b);
     return wa != wb ? wa < wb : a < b;
   });
   UnionFind uf(nv);
@@ -183,10 +168,10 @@ TerminalForest terminal_forest(const HalfedgeMesh& mesh, std::span<const EdgeId>
 
 // Joins the forest's other pieces (and terminals the skeleton missed) to the piece of
 // terminal 0, one nearest piece at a time, by terminal-avoiding shortest paths.
-Result<std::vector<EdgeId>> join_to_first_terminal(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                                   std::span<const VertexId> terminals,
+Result<std::vector<EdgeId>> join_to_first_terminal(const SearchSurface& surface, std::span<const VertexId> terminals,
                                                    const std::vector<std::int32_t>& terminal_of, TerminalForest forest,
                                                    const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
   const std::size_t nv = mesh.num_vertices();
   const std::size_t k = terminals.size();
   UnionFind& uf = forest.pieces;
@@ -222,7 +207,7 @@ Result<std::vector<EdgeId>> join_to_first_terminal(const HalfedgeMesh& mesh, con
     if (targets.empty()) break;
     if (sources.empty()) sources.push_back(terminals[0]);
     if (!search) {
-      search.emplace(graph);
+      search.emplace(surface.graph());
       for (VertexId t : terminals) search->block(t);
     }
     search->reset();
@@ -378,9 +363,9 @@ Result<TreeTopology> hang_inner_terminals(const HalfedgeMesh& mesh, std::span<co
 
 }  // namespace
 
-Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                       std::span<const EdgeId> skeleton_edges, std::span<const VertexId> terminals,
-                                       std::span<const double> edge_weights, const CancelToken& cancel) {
+Result<TreeTopology> skeleton_topology(const SearchSurface& surface, std::span<const EdgeId> skeleton_edges,
+                                       std::span<const VertexId> terminals, const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
   // A full-component tree (the refinement's tree after every move) is its own skeleton: the
   // spanning forest keeps all of it, no piece is joined, nothing is pruned and no terminal is
   // inner, so only its branches are walked (the same topology: walk_branches does not depend
@@ -396,15 +381,15 @@ Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph
   // Keep the skeleton's pieces that touch a terminal, then join them (and terminals the
   // skeleton missed) to the piece of terminal 0.
   SEAM_TRY(std::vector<EdgeId> kept,
-           join_to_first_terminal(mesh, graph, terminals, terminal_of,
-                                  terminal_forest(mesh, skeleton_edges, terminals, edge_weights), cancel));
+           join_to_first_terminal(surface, terminals, terminal_of, terminal_forest(surface, skeleton_edges, terminals),
+                                  cancel));
   kept = prune_dangling(mesh, std::move(kept), terminals);
   return hang_inner_terminals(mesh, terminals, terminal_of, walk_branches(mesh, kept, terminals));
 }
 
-Result<StraightenResult> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                             std::span<const double> edge_weights, const TreeTopology& topology,
+Result<StraightenResult> straighten_topology(const SearchSurface& surface, const TreeTopology& topology,
                                              const CancelToken& cancel) {
+  const HalfedgeMesh& mesh = surface.mesh();
   StraightenStats st;
   const std::size_t nl = topology.links.size();
   st.branches = nl;
@@ -413,11 +398,11 @@ Result<StraightenResult> straighten_topology(const HalfedgeMesh& mesh, const Edg
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::vector<double> len(nl);
   for (std::size_t l = 0; l < nl; ++l) {
-    len[l] = topology.paths[l].empty() ? -1.0 : course_length(mesh, edge_weights, topology.paths[l]);
+    len[l] = topology.paths[l].empty() ? -1.0 : surface.path_length(topology.paths[l]);
   }
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return len[a] < len[b]; });
 
-  PathSearch search(graph);
+  PathSearch search(surface.graph());
   for (int attempt = 0; attempt < 4; ++attempt) {
     TreeTopology result = topology;
     search.clear_marks();
@@ -433,8 +418,8 @@ Result<StraightenResult> straighten_topology(const HalfedgeMesh& mesh, const Edg
       const VertexId target[] = {b};
       // With Euclidean weights the straight-line distance guides the search (A*), which
       // visits a narrow band around the branch instead of a ball.
-      auto s = edge_weights.empty() ? search.run_astar(b, mesh.positions(), cancel)
-                                    : search.run(target, PathSearch::kUnreached, cancel);
+      auto s = surface.euclidean() ? search.run_astar(b, mesh.positions(), cancel)
+                                   : search.run(target, PathSearch::kUnreached, cancel);
       if (!s.ok()) return s.take_error();
       std::vector<HalfedgeId> path;
       if (search.reached(b)) {

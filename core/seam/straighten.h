@@ -10,8 +10,8 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
-#include "core/paths/geodesic.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/paths/search_surface.h"
 
 namespace seam::core {
 
@@ -38,8 +38,7 @@ Status check_full_component_tree(const HalfedgeMesh& mesh, std::span<const EdgeI
 /// nearest to each terminal's paths. Errors: kInvalidArgument (no tree with every
 /// terminal a leaf exists, e.g. a terminal whose neighbours are all terminals),
 /// kCancelled. Complexity: O(k E log V).
-Result<std::vector<EdgeId>> star_tree(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                      std::span<const VertexId> terminals,
+Result<std::vector<EdgeId>> star_tree(const SearchSurface& surface, std::span<const VertexId> terminals,
                                       const CancelToken& cancel = CancelToken::none());
 
 /// The structure of a skeleton (Algorithm 3's output, any edge set): keeps a spanning tree
@@ -50,10 +49,8 @@ Result<std::vector<EdgeId>> star_tree(const HalfedgeMesh& mesh, const EdgeGraph&
 /// terminals it misses, are joined by terminal-avoiding shortest paths (one search each).
 /// Errors: kTopologyViolation (a terminal cannot be made a leaf), kCancelled.
 /// O(|edges| log |edges| + V), plus one search per joined piece.
-Result<TreeTopology> skeleton_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                       std::span<const EdgeId> skeleton_edges,
+Result<TreeTopology> skeleton_topology(const SearchSurface& surface, std::span<const EdgeId> skeleton_edges,
                                        std::span<const VertexId> terminals,
-                                       std::span<const double> edge_weights,
                                        const CancelToken& cancel = CancelToken::none());
 
 struct StraightenStats {
@@ -76,15 +73,13 @@ struct StraightenResult {
 /// Errors: kTopologyViolation (no disjoint course for some branch), kCancelled.
 /// Complexity: O(b E log V) worst case, b = number of branches; each search stops at its
 /// target, so typically far less.
-Result<StraightenResult> straighten_topology(const HalfedgeMesh& mesh, const EdgeGraph& graph,
-                                             std::span<const double> edge_weights, const TreeTopology& topology,
+Result<StraightenResult> straighten_topology(const SearchSurface& surface, const TreeTopology& topology,
                                              const CancelToken& cancel = CancelToken::none());
 
 /// The sorted, unique edges of all paths of `topology`.
 std::vector<EdgeId> topology_edges(const TreeTopology& topology);
 
-/// Sum of the weights of topology_edges(topology) (`edge_weights` empty: Euclidean).
-double topology_length(const HalfedgeMesh& mesh, std::span<const double> edge_weights,
-                       const TreeTopology& topology);
+/// Sum of `surface`'s weights of topology_edges(topology).
+double topology_length(const SearchSurface& surface, const TreeTopology& topology);
 
 }  // namespace seam::core

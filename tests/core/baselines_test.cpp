@@ -152,7 +152,7 @@ double brute_force_steiner_sets(const HalfedgeMesh& mesh, std::span<const Vertex
 TEST_CASE("optimal equals brute force over edge subsets on a jittered octahedron") {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     const HalfedgeMesh mesh = fx::build_fixture(jittered(octahedron(), seed));
-    const EdgeGraph graph = build_edge_graph(mesh);
+    const SearchSurface surface(mesh);
     for (std::uint32_t a = 0; a < 6; ++a) {
       for (std::uint32_t b = a + 1; b < 6; ++b) {
         for (std::uint32_t c = b + 1; c < 6; ++c) {
@@ -161,7 +161,7 @@ TEST_CASE("optimal equals brute force over edge subsets on a jittered octahedron
             if (d != c) terminals.push_back(VertexId(d));
             CAPTURE(seed);
             CAPTURE(terminals.size());
-            auto r = optimal_seam(mesh, graph, {}, terminals, 10);
+            auto r = optimal_seam(surface, terminals, 10);
             const double expected = brute_force_edges(mesh, terminals);
             if (expected == std::numeric_limits<double>::infinity()) {
               // No full component exists (e.g. 4 terminals around one vertex of valence 4
@@ -184,7 +184,7 @@ TEST_CASE("optimal equals brute force over Steiner vertex sets on a jittered ico
   std::mt19937 rng(7);
   for (unsigned seed = 1; seed <= 3; ++seed) {
     const HalfedgeMesh mesh = fx::build_fixture(jittered(fx::icosphere(0), seed));
-    const EdgeGraph graph = build_edge_graph(mesh);
+    const SearchSurface surface(mesh);
     for (int trial = 0; trial < 12; ++trial) {
       std::vector<std::uint32_t> all(12);
       std::iota(all.begin(), all.end(), 0u);
@@ -195,7 +195,7 @@ TEST_CASE("optimal equals brute force over Steiner vertex sets on a jittered ico
       CAPTURE(seed);
       CAPTURE(trial);
       const double expected = brute_force_steiner_sets(mesh, terminals);
-      auto r = optimal_seam(mesh, graph, {}, terminals, 10);
+      auto r = optimal_seam(surface, terminals, 10);
       REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
       CHECK(r->length == doctest::Approx(expected).epsilon(1e-12));
       CHECK(is_tree_spanning(mesh, r->edges, terminals));
@@ -207,14 +207,14 @@ TEST_CASE("optimal equals brute force over Steiner vertex sets on a jittered ico
 TEST_CASE("baselines on protrusion fixtures: trees spanning the terminals, within the 2-approximation") {
   for (const auto& p : {fx::spiky_sphere(6), fx::star_blob(5), fx::hand(3)}) {
     const HalfedgeMesh mesh = fx::build_fixture(p.soup);
-    const EdgeGraph graph = build_edge_graph(mesh);
+    const SearchSurface surface(mesh);
     std::vector<VertexId> terminals;
     for (auto t : p.tips) terminals.push_back(VertexId(t));
-    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
+    auto paths = compute_terminal_paths(surface, terminals, 1);
     REQUIRE(paths.ok());
-    auto mst = mst_seam(mesh, graph, {}, *paths);
-    auto greedy = greedy_seam(mesh, graph, {}, terminals);
-    auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+    auto mst = mst_seam(surface, *paths);
+    auto greedy = greedy_seam(surface, terminals);
+    auto optimal = optimal_seam(surface, terminals, 10);
     REQUIRE(mst.ok());
     REQUIRE(greedy.ok());
     REQUIRE(optimal.ok());
@@ -245,7 +245,7 @@ TEST_CASE("baselines on protrusion fixtures: trees spanning the terminals, withi
     }
     CHECK(mst->length <= mst_weight + 1e-9);
     // Any full-component tree is at least the optimum: the skeleton's is one.
-    auto skeleton = skeleton_seam(mesh, graph, {}, *paths);
+    auto skeleton = skeleton_seam(surface, *paths);
     REQUIRE(skeleton.ok());
     if (terminals_are_leaves(mesh, skeleton->tree.edges, terminals)) {
       CHECK(optimal->length <= skeleton->tree.length + 1e-9);
@@ -260,46 +260,46 @@ TEST_CASE("baselines on protrusion fixtures: trees spanning the terminals, withi
 TEST_CASE("optimal refuses too many terminals, validates input and honours cancellation") {
   const auto p = fx::spiky_sphere(8);
   const HalfedgeMesh mesh = fx::build_fixture(p.soup);
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   std::vector<VertexId> terminals;
   for (auto t : p.tips) terminals.push_back(VertexId(t));
-  auto r = optimal_seam(mesh, graph, {}, terminals, 7);
+  auto r = optimal_seam(surface, terminals, 7);
   REQUIRE(!r.ok());
   CHECK(r.error().code == ErrorCode::kTooManyTerminals);
   std::vector<VertexId> repeated{terminals[0], terminals[1], terminals[0]};
-  CHECK(optimal_seam(mesh, graph, {}, repeated, 10).error().code == ErrorCode::kInvalidArgument);
-  CHECK(greedy_seam(mesh, graph, {}, repeated).error().code == ErrorCode::kInvalidArgument);
+  CHECK(optimal_seam(surface, repeated, 10).error().code == ErrorCode::kInvalidArgument);
+  CHECK(greedy_seam(surface, repeated).error().code == ErrorCode::kInvalidArgument);
   std::vector<VertexId> one{terminals[0]};
-  CHECK(optimal_seam(mesh, graph, {}, one, 10).error().code == ErrorCode::kInvalidArgument);
+  CHECK(optimal_seam(surface, one, 10).error().code == ErrorCode::kInvalidArgument);
   std::vector<VertexId> out{terminals[0], VertexId(static_cast<std::uint32_t>(mesh.num_vertices()))};
-  CHECK(greedy_seam(mesh, graph, {}, out).error().code == ErrorCode::kInvalidArgument);
+  CHECK(greedy_seam(surface, out).error().code == ErrorCode::kInvalidArgument);
   CancelToken token;
   token.cancel();
-  CHECK(optimal_seam(mesh, graph, {}, terminals, 10, token).error().code == ErrorCode::kCancelled);
-  CHECK(greedy_seam(mesh, graph, {}, terminals, token).error().code == ErrorCode::kCancelled);
+  CHECK(optimal_seam(surface, terminals, 10, token).error().code == ErrorCode::kCancelled);
+  CHECK(greedy_seam(surface, terminals, token).error().code == ErrorCode::kCancelled);
 }
 
 TEST_CASE("optimal with ten terminals on a spiky sphere: a full component, no longer than the others' leafy trees") {
   const auto p = fx::spiky_sphere(10, 3);
   const HalfedgeMesh mesh = fx::build_fixture(p.soup);
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   std::vector<VertexId> terminals;
   for (auto t : p.tips) terminals.push_back(VertexId(t));
-  auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+  auto optimal = optimal_seam(surface, terminals, 10);
   REQUIRE(optimal.ok());
   CHECK(is_tree_spanning(mesh, optimal->edges, terminals));
   CHECK(terminals_are_leaves(mesh, optimal->edges, terminals));
   // Permuting the terminals (a different DP root) gives the same optimum.
   std::vector<VertexId> rotated(terminals.begin() + 3, terminals.end());
   rotated.insert(rotated.end(), terminals.begin(), terminals.begin() + 3);
-  auto again = optimal_seam(mesh, graph, {}, rotated, 10);
+  auto again = optimal_seam(surface, rotated, 10);
   REQUIRE(again.ok());
   CHECK(again->length == doctest::Approx(optimal->length).epsilon(1e-12));
 }
 
 TEST_CASE("optimal_seam with an upper bound: the same optimum below it, nothing when the bound is too low") {
   const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   std::mt19937 rng(99);
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<VertexId> terminals;
@@ -308,20 +308,20 @@ TEST_CASE("optimal_seam with an upper bound: the same optimum below it, nothing 
       if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
     }
     CAPTURE(trial);
-    auto exact = optimal_seam(mesh, graph, {}, terminals, 10);
+    auto exact = optimal_seam(surface, terminals, 10);
     REQUIRE(exact.ok());
     // Any full-component tree is a valid bound; the star tree is a poor one, the optimum the
     // tightest (raised by a hair so that the optimum itself is below it).
-    auto star = star_tree(mesh, graph, terminals);
+    auto star = star_tree(surface, terminals);
     REQUIRE(star.ok());
     const double star_length = make_steiner_tree(mesh, *star, terminals).length;
     for (double bound : {star_length, exact->length * (1 + 1e-9)}) {
-      auto bounded = optimal_seam(mesh, graph, {}, terminals, 10, CancelToken::none(), bound);
+      auto bounded = optimal_seam(surface, terminals, 10, CancelToken::none(), bound);
       REQUIRE(bounded.ok());
       CHECK(bounded->length == doctest::Approx(exact->length).epsilon(1e-12));
       CHECK(check_full_component_tree(mesh, bounded->edges, terminals).ok());
     }
-    auto below = optimal_seam(mesh, graph, {}, terminals, 10, CancelToken::none(), exact->length * (1 - 1e-6));
+    auto below = optimal_seam(surface, terminals, 10, CancelToken::none(), exact->length * (1 - 1e-6));
     REQUIRE(below.ok());
     CHECK(below->edges.empty());
   }

@@ -37,25 +37,25 @@ HalfedgeMesh spiky_mesh(int spikes, std::vector<VertexId>& tips) {
 TEST_CASE("improve_tree: the star tree gets shorter, stays a full component, never below the optimum") {
   std::vector<VertexId> tips;
   const HalfedgeMesh mesh = spiky_mesh(6, tips);
-  const EdgeGraph graph = build_edge_graph(mesh);
-  auto star = star_tree(mesh, graph, tips);
+  const SearchSurface surface(mesh);
+  auto star = star_tree(surface, tips);
   REQUIRE(star.ok());
   const double star_length = full_component_length(mesh, *star, tips);
-  auto improved = improve_tree(mesh, graph, {}, tips, *star);
+  auto improved = improve_tree(surface, tips, *star);
   REQUIRE(improved.ok());
   const double length = full_component_length(mesh, improved->edges, tips);
   CHECK(length < star_length);  // the star through one centre is far from optimal on spikes
   CHECK(improved->stats.length_before == doctest::Approx(star_length));
   CHECK(improved->stats.length_after == doctest::Approx(length));
   CHECK(improved->stats.path_exchanges + improved->stats.vertex_eliminations > 0);
-  auto optimal = optimal_seam(mesh, graph, {}, tips, 10);
+  auto optimal = optimal_seam(surface, tips, 10);
   REQUIRE(optimal.ok());
   CHECK(optimal->length <= length + 1e-9);
 }
 
 TEST_CASE("improve_tree: random terminal sets on a real mesh never lengthen the skeleton and are deterministic") {
   const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   std::mt19937 rng(7);
   for (int trial = 0; trial < 6; ++trial) {
     std::vector<VertexId> terminals;
@@ -64,19 +64,19 @@ TEST_CASE("improve_tree: random terminal sets on a real mesh never lengthen the 
       if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
     }
     CAPTURE(trial);
-    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
+    auto paths = compute_terminal_paths(surface, terminals, 1);
     REQUIRE(paths.ok());
-    auto skeleton = skeleton_seam(mesh, graph, {}, *paths, {.refine = false, .improve = false});
+    auto skeleton = skeleton_seam(surface, *paths, {.refine = false, .improve = false});
     REQUIRE(skeleton.ok());
     const double before = full_component_length(mesh, skeleton->tree.edges, terminals);
-    auto a = improve_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
-    auto b = improve_tree(mesh, graph, {}, terminals, skeleton->tree.edges);
+    auto a = improve_tree(surface, terminals, skeleton->tree.edges);
+    auto b = improve_tree(surface, terminals, skeleton->tree.edges);
     REQUIRE(a.ok());
     REQUIRE(b.ok());
     CHECK(a->edges == b->edges);
     const double after = full_component_length(mesh, a->edges, terminals);
     CHECK(after <= before + 1e-12);
-    auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+    auto optimal = optimal_seam(surface, terminals, 10);
     REQUIRE(optimal.ok());
     CHECK(optimal->length <= after + 1e-9);
   }
@@ -92,40 +92,44 @@ TEST_CASE("improve_tree: weighted edges are what it shortens") {
     const double x = 0.5 * (mesh.position(mesh.tail(h)).x() + mesh.position(mesh.head(h)).x());
     weights[e] = mesh.edge_length(EdgeId(e)) * (x > 0.3 ? 5.0 : 1.0);
   }
-  const EdgeGraph graph = build_edge_graph(mesh, weights);
-  auto star = star_tree(mesh, graph, tips);
+  const SearchSurface surface(mesh, weights);
+  auto star = star_tree(surface, tips);
   REQUIRE(star.ok());
   auto weighted_length = [&](const std::vector<EdgeId>& edges) {
     double sum = 0;
     for (EdgeId e : edges) sum += weights[e.index()];
     return sum;
   };
-  auto improved = improve_tree(mesh, graph, weights, tips, *star);
+  auto improved = improve_tree(surface, tips, *star);
   REQUIRE(improved.ok());
   full_component_length(mesh, improved->edges, tips);
   CHECK(weighted_length(improved->edges) <= weighted_length(*star) + 1e-12);
   CHECK(improved->stats.length_after == doctest::Approx(weighted_length(improved->edges)));
 }
 
-TEST_CASE("improve_tree: input that is not a full-component tree, and bad weights, are refused") {
+TEST_CASE("improve_tree: input that is not a full-component tree is refused") {
   std::vector<VertexId> tips;
   const HalfedgeMesh mesh = spiky_mesh(4, tips);
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   const std::vector<EdgeId> one = {EdgeId(0u)};
-  auto bad = improve_tree(mesh, graph, {}, tips, one);
+  auto bad = improve_tree(surface, tips, one);
   REQUIRE_FALSE(bad.ok());
   CHECK(bad.error().code == ErrorCode::kInvalidArgument);
-  auto star = star_tree(mesh, graph, tips);
+  auto star = star_tree(surface, tips);
   REQUIRE(star.ok());
-  const std::vector<double> short_weights(3, 1.0);
-  auto weights = improve_tree(mesh, graph, short_weights, tips, *star);
-  REQUIRE_FALSE(weights.ok());
-  CHECK(weights.error().code == ErrorCode::kInvalidArgument);
+  // One more edge makes a cycle, a non-terminal leaf or a second piece: never a full component.
+  std::vector<EdgeId> extra = *star;
+  EdgeId e(0u);
+  while (std::find(star->begin(), star->end(), e) != star->end()) e = EdgeId(e.value() + 1);
+  extra.push_back(e);
+  auto refused = improve_tree(surface, tips, extra);
+  REQUIRE_FALSE(refused.ok());
+  CHECK(refused.error().code == ErrorCode::kInvalidArgument);
 }
 
 TEST_CASE("nearest_terminal_tree: a full component on random sets, shortened by improve_tree, never below optimal") {
   const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   std::mt19937 rng(11);
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<VertexId> terminals;
@@ -134,18 +138,18 @@ TEST_CASE("nearest_terminal_tree: a full component on random sets, shortened by 
       if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
     }
     CAPTURE(trial);
-    auto greedy = nearest_terminal_tree(mesh, graph, terminals);
+    auto greedy = nearest_terminal_tree(surface, terminals);
     REQUIRE(greedy.ok());
     const double length = full_component_length(mesh, *greedy, terminals);
-    auto improved = improve_tree(mesh, graph, {}, terminals, *greedy);
+    auto improved = improve_tree(surface, terminals, *greedy);
     REQUIRE(improved.ok());
     CHECK(full_component_length(mesh, improved->edges, terminals) <= length + 1e-12);
-    auto optimal = optimal_seam(mesh, graph, {}, terminals, 10);
+    auto optimal = optimal_seam(surface, terminals, 10);
     REQUIRE(optimal.ok());
     CHECK(optimal->length <= length + 1e-9);
   }
   const std::vector<VertexId> one = {VertexId(0u)};
-  CHECK(nearest_terminal_tree(mesh, graph, one).error().code == ErrorCode::kInvalidArgument);
+  CHECK(nearest_terminal_tree(surface, one).error().code == ErrorCode::kInvalidArgument);
 }
 
 namespace {
@@ -209,7 +213,7 @@ std::vector<EdgeId> fresh_search_nearest_terminal_tree(const HalfedgeMesh& mesh,
 TEST_CASE(
     "nearest_terminal_tree: the growing search joins what a fresh search per join joins, and gives up at its budget") {
   const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("hand");
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   std::mt19937 rng(23);
   for (std::size_t k : {2u, 3u, 5u, 8u, 13u, 21u}) {
     std::vector<VertexId> terminals;
@@ -218,12 +222,12 @@ TEST_CASE(
       if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
     }
     CAPTURE(k);
-    auto grown = nearest_terminal_tree(mesh, graph, terminals);
+    auto grown = nearest_terminal_tree(surface, terminals);
     REQUIRE(grown.ok());
-    CHECK(*grown == fresh_search_nearest_terminal_tree(mesh, graph, terminals));
+    CHECK(*grown == fresh_search_nearest_terminal_tree(mesh, surface.graph(), terminals));
     CHECK(check_full_component_tree(mesh, *grown, terminals).ok());
     // A budget below what the first join settles: no tree.
-    auto starved = nearest_terminal_tree(mesh, graph, terminals, CancelToken::none(), 3);
+    auto starved = nearest_terminal_tree(surface, terminals, CancelToken::none(), 3);
     REQUIRE(starved.ok());
     CHECK(starved->empty());
   }

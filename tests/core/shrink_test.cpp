@@ -104,10 +104,10 @@ TEST_CASE("shrink_tour on a real tour: marks fill the interior, skeleton exactly
     CAPTURE(spikes);
     const auto s = fx::spiky_sphere(3, fx::spread_directions(spikes));
     const HalfedgeMesh mesh = build_halfedge_mesh(s.soup.positions, s.soup.triangles).value();
-    const EdgeGraph graph = build_edge_graph(mesh);
+    const SearchSurface surface(mesh);
     std::vector<VertexId> terminals;
     for (auto t : s.tips) terminals.push_back(VertexId(t));
-    auto paths = compute_terminal_paths(mesh, graph, terminals, 1);
+    auto paths = compute_terminal_paths(surface, terminals, 1);
     REQUIRE(paths.ok());
     auto built = build_tour(mesh, *paths);
     REQUIRE(built.ok());

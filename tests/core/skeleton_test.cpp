@@ -21,31 +21,35 @@ namespace fx = seam::fixtures;
 
 namespace {
 
+TerminalPaths require_paths(const SearchSurface& surface, const std::vector<VertexId>& terminals) {
+  auto paths = compute_terminal_paths(surface, terminals, 1);
+  REQUIRE(paths.ok());
+  return std::move(paths).value();
+}
+
+// A mesh, its search surface and its terminals' paths; built in place (the surface refers to
+// the mesh), so a Setup is neither copied nor moved.
 struct Setup {
+  Setup(HalfedgeMesh m, const std::vector<VertexId>& terminals, std::vector<double> weights = {})
+      : mesh(std::move(m)), surface(mesh, std::move(weights)), paths(require_paths(surface, terminals)) {}
+  Setup(const Setup&) = delete;
+  Setup& operator=(const Setup&) = delete;
+
   HalfedgeMesh mesh;
-  EdgeGraph graph;
-  std::vector<double> weights;  // empty: Euclidean
+  SearchSurface surface;  // empty weights: Euclidean
   TerminalPaths paths;
 };
-
-Setup make_setup(HalfedgeMesh mesh, const std::vector<VertexId>& terminals, std::vector<double> weights = {}) {
-  Setup s{std::move(mesh), {}, std::move(weights), {}};
-  s.graph = build_edge_graph(s.mesh, s.weights);
-  auto paths = compute_terminal_paths(s.mesh, s.graph, terminals, 1);
-  REQUIRE(paths.ok());
-  s.paths = std::move(paths).value();
-  return s;
-}
 
 Setup spiky(int spikes, int levels = 3) {
   const auto s = fx::spiky_sphere(levels, fx::spread_directions(spikes));
   std::vector<VertexId> terminals;
   for (auto t : s.tips) terminals.push_back(VertexId(t));
-  return make_setup(build_halfedge_mesh(s.soup.positions, s.soup.triangles).value(), terminals);
+  return Setup(build_halfedge_mesh(s.soup.positions, s.soup.triangles).value(), terminals);
 }
 
 double weight_of(const Setup& s, EdgeId e) {
-  return s.weights.empty() ? s.mesh.edge_length(e) : s.weights[e.index()];
+  const auto weights = s.surface.edge_weights();
+  return weights.empty() ? s.mesh.edge_length(e) : weights[e.index()];
 }
 
 // Independent of the module under test: the edges form one tree containing every terminal,
@@ -97,7 +101,7 @@ double mst_seam_length(const Setup& s) {
 }
 
 SkeletonResult run(const Setup& s, const SkeletonOptions& options = {}, SkeletonTrace* trace = nullptr) {
-  auto r = skeleton_seam_traced(s.mesh, s.graph, s.weights, s.paths, options, trace);
+  auto r = skeleton_seam_traced(s.surface, s.paths, options, trace);
   REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
   return std::move(r).value();
 }
@@ -142,9 +146,9 @@ TEST_CASE("Algorithm 3's raw skeleton reaches every terminal and straightening k
   std::set<std::int32_t> marks(shrunk->face_mark.begin(), shrunk->face_mark.end());
   for (std::size_t i = 0; i < tour.pieces.size(); ++i) CHECK(marks.count(static_cast<std::int32_t>(i)) == 1);
 
-  auto topo = skeleton_topology(s.mesh, s.graph, shrunk->skeleton, s.paths.terminals, s.weights);
+  auto topo = skeleton_topology(s.surface, shrunk->skeleton, s.paths.terminals);
   REQUIRE(topo.ok());
-  auto straightened = straighten_topology(s.mesh, s.graph, s.weights, *topo);
+  auto straightened = straighten_topology(s.surface, *topo);
   REQUIRE(straightened.ok());
   const TreeTopology& straight = straightened->topology;
   std::set<std::uint32_t> node_vertices;
@@ -162,15 +166,13 @@ TEST_CASE("Algorithm 3's raw skeleton reaches every terminal and straightening k
     for (std::size_t i = 0; i + 1 < path.size(); ++i) CHECK(inner.insert(s.mesh.head(path[i]).value()).second);
   }
   // Straightening does not lengthen the skeleton's branches.
-  CHECK(topology_length(s.mesh, s.weights, straight) <=
-        topology_length(s.mesh, s.weights, *topo) + 1e-9);
+  CHECK(topology_length(s.surface, straight) <= topology_length(s.surface, *topo) + 1e-9);
   CHECK(check_full_component_tree(s.mesh, topology_edges(straight), s.paths.terminals).ok());
 }
 
 TEST_CASE("two terminals: the seam is their shortest path") {
   const auto soup = fx::icosphere(3);
-  const Setup s = make_setup(build_halfedge_mesh(soup.positions, soup.triangles).value(),
-                             {VertexId(3u), VertexId(400u)});
+  const Setup s(build_halfedge_mesh(soup.positions, soup.triangles).value(), {VertexId(3u), VertexId(400u)});
   const auto result = run(s);
   require_full_component_tree(s, result.tree);
   CHECK(result.tree.length == doctest::Approx(s.paths.dist(0, 1)).epsilon(1e-12));
@@ -189,7 +191,7 @@ TEST_CASE("degenerate terminal sets: adjacent terminals, clusters, random sets n
     }
   }
   {
-    const Setup s = make_setup(mesh, {face[0], face[1], face[2], far});
+    const Setup s(mesh, {face[0], face[1], face[2], far});
     require_full_component_tree(s, run(s).tree);
   }
   {
@@ -199,7 +201,7 @@ TEST_CASE("degenerate terminal sets: adjacent terminals, clusters, random sets n
       if (ring.size() < 4) ring.push_back(mesh.head(h));
     });
     ring.push_back(far);
-    const Setup s = make_setup(mesh, ring);
+    const Setup s(mesh, ring);
     require_full_component_tree(s, run(s).tree);
   }
   std::mt19937 rng(7);
@@ -210,7 +212,7 @@ TEST_CASE("degenerate terminal sets: adjacent terminals, clusters, random sets n
     std::vector<VertexId> terminals;
     for (auto v : picked) terminals.push_back(VertexId(v));
     CAPTURE(trial);
-    const Setup s = make_setup(mesh, terminals);
+    const Setup s(mesh, terminals);
     for (bool refine : {false, true}) require_full_component_tree(s, run(s, {.refine = refine}).tree);
   }
 }
@@ -233,8 +235,7 @@ TEST_CASE("a boundary coned to a virtual vertex: terminals on the boundary, next
     weights[e] = virtual_edge ? 0.0 : mesh.edge_length(EdgeId(e));
   }
   // Extrema: the centre, an inner-ring vertex, and a boundary vertex (adjacent to the cone).
-  const Setup s = make_setup(mesh, {VertexId(cone), VertexId(0u), VertexId(1u + 2 * 16 + 4), VertexId(outer0 + 9)},
-                             weights);
+  const Setup s(mesh, {VertexId(cone), VertexId(0u), VertexId(1u + 2 * 16 + 4), VertexId(outer0 + 9)}, weights);
   for (bool refine : {false, true}) {
     const auto result = run(s, {.refine = refine});
     require_full_component_tree(s, result.tree);
@@ -245,7 +246,7 @@ TEST_CASE("cancellation is reported") {
   const Setup s = spiky(5);
   CancelToken token;
   token.cancel();
-  auto r = skeleton_seam(s.mesh, s.graph, s.weights, s.paths, {}, token);
+  auto r = skeleton_seam(s.surface, s.paths, {}, token);
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == ErrorCode::kCancelled);
 }
@@ -254,9 +255,10 @@ TEST_CASE("invalid input is refused") {
   const Setup s = spiky(3);
   TerminalPaths one = s.paths;
   one.terminals.resize(1);
-  CHECK(skeleton_seam(s.mesh, s.graph, s.weights, one).error().code == ErrorCode::kInvalidArgument);
-  const std::vector<double> wrong(3, 1.0);
-  CHECK(skeleton_seam(s.mesh, s.graph, wrong, s.paths).error().code == ErrorCode::kInvalidArgument);
+  CHECK(skeleton_seam(s.surface, one).error().code == ErrorCode::kInvalidArgument);
+  TerminalPaths beyond = s.paths;  // terminals of a larger mesh
+  beyond.terminals[0] = VertexId(static_cast<std::uint32_t>(s.mesh.num_vertices() + 5));
+  CHECK(skeleton_seam(s.surface, beyond).error().code == ErrorCode::kInvalidArgument);
 }
 
 TEST_CASE("real CGAL meshes (hand, camel): full-component tree, lengths against the MST seam") {
@@ -267,7 +269,7 @@ TEST_CASE("real CGAL meshes (hand, camel): full-component tree, lengths against 
       HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge(name);
       const EdgeGraph graph = build_edge_graph(mesh);
       const auto extrema = fx::farthest_point_extrema(mesh, graph, count);
-      const Setup s = make_setup(std::move(mesh), extrema);
+      const Setup s(std::move(mesh), extrema);
       SkeletonTrace trace;
       const auto start = std::chrono::steady_clock::now();
       const auto result = run(s, {}, &trace);

@@ -16,16 +16,16 @@ HalfedgeMesh sphere() {
 
 TEST_CASE("terminal paths: symmetric, consistent with Dijkstra, independent of the thread count") {
   const HalfedgeMesh mesh = sphere();
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   const std::vector<VertexId> terminals = {VertexId(0u), VertexId(7u), VertexId(100u), VertexId(321u), VertexId(555u)};
-  auto one = compute_terminal_paths(mesh, graph, terminals, 1);
-  auto two = compute_terminal_paths(mesh, graph, terminals, 2);
+  auto one = compute_terminal_paths(surface, terminals, 1);
+  auto two = compute_terminal_paths(surface, terminals, 2);
   REQUIRE(one.ok());
   REQUIRE(two.ok());
   const std::size_t k = terminals.size();
   for (std::size_t i = 0; i < k; ++i) {
     const VertexId src[] = {terminals[i]};
-    auto tree = dijkstra(graph, src);
+    auto tree = dijkstra(surface.graph(), src);
     REQUIRE(tree.ok());
     for (std::size_t j = 0; j < k; ++j) {
       CHECK(one->dist(i, j) == doctest::Approx(tree->distance[terminals[j].index()]).epsilon(1e-12));
@@ -55,17 +55,19 @@ TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of 
   // Uneven weights, so ties are rare and Voronoi regions are not round.
   std::vector<double> weights(mesh.num_edges());
   for (std::size_t e = 0; e < weights.size(); ++e) weights[e] = mesh.edge_length(EdgeId(e)) * (1.0 + (e * 37 % 11) / 10.0);
-  // The weights are never below the Euclidean lengths, so A* pair searches are valid in both.
-  for (const auto& [weighted, astar] : {std::pair{false, false}, std::pair{false, true}, std::pair{true, true}}) {
-    CAPTURE(weighted);
-    CAPTURE(astar);
-    const std::span<const double> w = weighted ? std::span<const double>(weights) : std::span<const double>();
-    const EdgeGraph graph = build_edge_graph(mesh, w);
+  std::vector<double> lengths(mesh.num_edges());
+  for (std::size_t e = 0; e < lengths.size(); ++e) lengths[e] = mesh.edge_length(EdgeId(e));
+  // Euclidean (A* pair searches), the same lengths given as weights (plain Dijkstra), and
+  // uneven weights.
+  for (int variant : {0, 1, 2}) {
+    CAPTURE(variant);
+    const SearchSurface surface(mesh, variant == 0 ? std::vector<double>{} : variant == 1 ? lengths : weights);
+    CHECK(surface.euclidean() == (variant == 0));
     const std::vector<VertexId> terminals = {VertexId(5u),   VertexId(70u),  VertexId(101u), VertexId(300u),
                                              VertexId(444u), VertexId(600u), VertexId(2u)};
     const std::size_t k = terminals.size();
-    auto lazy = terminal_paths_on_demand(mesh, graph, terminals, CancelToken::none(), astar);
-    auto full = compute_terminal_paths(mesh, graph, terminals, 1);
+    auto lazy = terminal_paths_on_demand(surface, terminals);
+    auto full = compute_terminal_paths(surface, terminals, 1);
     REQUIRE(lazy.ok());
     REQUIRE(full.ok());
     REQUIRE(lazy->mst.size() == k - 1);
@@ -84,7 +86,7 @@ TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of 
       for (std::size_t j = 0; j < k; ++j) {
         CHECK(lazy->dist(i, j) == doctest::Approx(full->dist(i, j)).epsilon(1e-12));
         const auto& path = lazy->path_between(i, j);
-        CHECK(path_length(mesh, path, w) == doctest::Approx(full->dist(i, j)).epsilon(1e-12));
+        CHECK(path_length(mesh, path, surface.edge_weights()) == doctest::Approx(full->dist(i, j)).epsilon(1e-12));
         if (i == j) continue;
         REQUIRE_FALSE(path.empty());
         CHECK(mesh.tail(path.front()) == terminals[i]);
@@ -93,19 +95,18 @@ TEST_CASE("terminal paths on demand: exact distances, shortest paths, an MST of 
       }
     }
     CHECK(lazy->searches() < k * (k - 1) / 2);  // a search records every terminal it settles
-    CHECK(terminal_paths_on_demand(mesh, graph, std::span(terminals).first(1)).error().code ==
-          ErrorCode::kInvalidArgument);
+    CHECK(terminal_paths_on_demand(surface, std::span(terminals).first(1)).error().code == ErrorCode::kInvalidArgument);
   }
 }
 
 TEST_CASE("terminal paths reject bad terminal sets") {
   const HalfedgeMesh mesh = sphere();
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   const std::vector<VertexId> single = {VertexId(0u)};
   const std::vector<VertexId> repeated = {VertexId(3u), VertexId(3u)};
   const std::vector<VertexId> outside = {VertexId(3u), VertexId(99999u)};
   for (const auto* set : {&single, &repeated, &outside}) {
-    auto r = compute_terminal_paths(mesh, graph, *set);
+    auto r = compute_terminal_paths(surface, *set);
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == ErrorCode::kInvalidArgument);
   }

@@ -141,7 +141,7 @@ TEST_CASE("check_full_component_tree: a path between two terminals passes, each 
 
 TEST_CASE("star_tree: every terminal a leaf of one tree on random sets, refused when a terminal is walled in") {
   const HalfedgeMesh mesh = sphere();
-  const EdgeGraph graph = build_edge_graph(mesh);
+  const SearchSurface surface(mesh);
   std::mt19937 rng(3);
   for (int trial = 0; trial < 10; ++trial) {
     std::vector<VertexId> terminals;
@@ -150,7 +150,7 @@ TEST_CASE("star_tree: every terminal a leaf of one tree on random sets, refused 
       if (std::find(terminals.begin(), terminals.end(), v) == terminals.end()) terminals.push_back(v);
     }
     CAPTURE(trial);
-    auto star = star_tree(mesh, graph, terminals);
+    auto star = star_tree(surface, terminals);
     REQUIRE(star.ok());
     const auto degree = degrees(mesh, *star);
     CHECK(degree.size() == star->size() + 1);  // a tree (connected, as checked below)
@@ -165,7 +165,7 @@ TEST_CASE("star_tree: every terminal a leaf of one tree on random sets, refused 
     walled.push_back(mesh.head(h));
     h = mesh.next(HalfedgeMesh::twin(h));
   } while (h != h0);
-  auto refused = star_tree(mesh, graph, walled);
+  auto refused = star_tree(surface, walled);
   REQUIRE_FALSE(refused.ok());
   CHECK(refused.error().code == ErrorCode::kInvalidArgument);
 }

@@ -17,17 +17,15 @@ namespace {
 
 struct Setup {
   HalfedgeMesh mesh;
-  EdgeGraph graph;
-  TerminalPaths paths;
+  TerminalPaths paths;  // a complete table: it keeps no reference to the mesh or its graph
 };
 
 Setup spiky(int spikes, int levels = 3) {
   const auto s = fx::spiky_sphere(levels, fx::spread_directions(spikes));
-  Setup out{build_halfedge_mesh(s.soup.positions, s.soup.triangles).value(), {}, {}};
-  out.graph = build_edge_graph(out.mesh);
+  Setup out{build_halfedge_mesh(s.soup.positions, s.soup.triangles).value(), {}};
   std::vector<VertexId> terminals;
   for (auto t : s.tips) terminals.push_back(VertexId(t));
-  out.paths = compute_terminal_paths(out.mesh, out.graph, terminals, 1).value();
+  out.paths = compute_terminal_paths(SearchSurface(out.mesh), terminals, 1).value();
   return out;
 }
 
