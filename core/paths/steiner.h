@@ -32,7 +32,7 @@ struct SteinerTree {
 /// first time they are asked for). Both answer every query with an exact shortest distance
 /// and a shortest path; on ties the paths of the two modes may differ, never their lengths.
 /// An on-demand table is request-local: its queries fill a cache and run searches on the
-/// graph it was built from (which must outlive it), so it is not for concurrent use.
+/// surface it was built on (which must outlive it), so it is not for concurrent use.
 class TerminalPaths {
  public:
   std::vector<VertexId> terminals;
