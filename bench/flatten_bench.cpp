@@ -64,7 +64,7 @@ void breakdown(const std::string& name, const core::HalfedgeMesh& disc) {
     slim = core::flatten_slim(*largest, start, {}, core::CancelToken::none()).value();
   });
   const core::TwoLevelResult two =
-      core::slim_two_level(*largest, start, std::max<std::size_t>(largest->num_vertices() / 8, 30000), {}).value();
+      core::slim_two_level(*largest, start, core::default_coarse_vertices(largest->num_vertices()), {}).value();
   const core::SlimTimings& t = slim.timings;
   std::printf("%-10s %9zu %8.0f %8.0f %5d %5d %6.3f %6.3f %4d %7.0f %7.0f %8.0f %7.0f %7.0f %7.0f%s\n",
               name.c_str(), largest->triangles.size(), bff_ms, slim_ms, slim.iterations, slim.factorizations,

@@ -459,6 +459,12 @@ std::vector<Vec2> prolongate(const CoarseChart& coarse, const std::vector<Vec2>&
   return uv;
 }
 
+std::size_t default_coarse_vertices(std::size_t fine_vertices) {
+  constexpr std::size_t kCoarsening = 12;
+  constexpr std::size_t kMinVertices = 30000;
+  return std::max(fine_vertices / kCoarsening, kMinVertices);
+}
+
 Result<TwoLevelResult> slim_two_level(const DiscPatch& patch, const std::vector<Vec2>& start,
                                       std::size_t coarse_vertices, const SlimOptions& slim, const CancelToken& cancel) {
   using Clock = std::chrono::steady_clock;

@@ -84,6 +84,15 @@ struct TwoLevelResult {
   double finish_ms = 0;             ///< prolongation, untangling and the boundary check
 };
 
+/// The coarse chart's size on parameterize()'s two-level path: 1/12 of `fine_vertices`, at
+/// least 30,000 (the floor decides below 360k vertices, about 720k faces). Measured with flatten_bench (area_g
+/// two-level against SLIM on the whole chart; the default map's time against `uv: bff`):
+/// lion-head at 1.07M faces 1/16 1.876 against 1.864, 1/12 1.765 (1.17x), 1/8 1.740
+/// (1.20x); the camel cut open at 1.25M faces, every coarse step contact-limited, 1/16 1.181
+/// against 1.170, 1/12 1.173 (1.47-1.50x), 1/10 1.173 (1.58-1.61x), 1/8 1.173 (1.69-1.70x);
+/// at 267k faces (the floor) 30k vertices 1.710 against 1.840, 16.7k 1.969. O(1).
+std::size_t default_coarse_vertices(std::size_t fine_vertices);
+
 /// SLIM on a coarse copy of `patch` (coarsen_chart to `coarse_vertices`, then flatten_slim
 /// with `slim`, whose vertex_order must be empty), carried back by prolongate; triangles that
 /// the composition folds are unfolded, and those too thin for float32 fattened, by untangle

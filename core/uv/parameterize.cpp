@@ -118,14 +118,6 @@ Vec2 pack_charts(std::vector<Chart>& charts, double gap_fraction) {
   return extent;
 }
 
-// The two-level path's coarse chart has about 1/kCoarsening of the vertices, and at least
-// kCoarseMinVertices. Measured (flatten_bench, area_g two-level against SLIM on the whole
-// chart): lion-head at 1.07M faces 1/16 1.937 against 1.864, 1/8 1.740; at 267k faces 1/8
-// (16.7k vertices) 1.969 against 1.840, 30k vertices 1.710; camel, elephant, dino at
-// 313k-501k faces -0.2% to +0.9%.
-constexpr std::size_t kCoarsening = 8;
-constexpr std::size_t kCoarseMinVertices = 30000;
-
 // SLIM on a coarse copy of a large chart (multilevel.h): BFF's start, coarsened in its own
 // plane, optimised there, and carried back. Empty when the fine map would fold or overlap
 // itself, or the coarse chart failed other than by cancellation (then the caller runs SLIM on
@@ -134,7 +126,7 @@ Result<std::optional<std::vector<Vec2>>> flatten_two_level(const DiscPatch& patc
                                                            UvResult& result, const CancelToken& cancel) {
   SEAM_TRY(std::vector<Vec2> start, flatten_bff(patch, cancel));
   if (repair_flips(patch, start) > 0) return std::optional<std::vector<Vec2>>();
-  const std::size_t coarse = std::max(patch.num_vertices() / kCoarsening, kCoarseMinVertices);
+  const std::size_t coarse = default_coarse_vertices(patch.num_vertices());
   auto two_level = slim_two_level(
       patch, start, coarse,
       {.iterations = options.slim_iterations, .proxy = options.slim_proxy, .injective = options.injective}, cancel);

@@ -40,10 +40,10 @@ struct UvOptions {
   /// SLIM only: its proxy (see slim.h); the isotropic one is several times faster per step.
   SlimProxy slim_proxy = SlimProxy::kIsotropic;
   /// SLIM only: charts of at least this many triangles (0: none) are optimised on a coarser
-  /// triangulation of their BFF start (1/8 of the vertices, at least 30,000; multilevel.h)
+  /// triangulation of their BFF start (1/12 of the vertices, at least 30,000; multilevel.h)
   /// and the fine map follows it; a chart where that would fold or overlap itself gets SLIM
-  /// on the chart itself. At 1.07M faces that takes the default map from 3.2x to 1.4x BFF's
-  /// time with area_g 1.740 against 1.864 (flatten_bench); below 200k faces SLIM on the
+  /// on the chart itself. At 1.07M faces that takes the default map from 3.2x to 1.2x BFF's
+  /// time with area_g 1.765 against 1.864 (flatten_bench); below 200k faces SLIM on the
   /// whole chart costs little and every row of the distortion table stays as it was.
   std::size_t multilevel_min_faces = 200000;
   /// SLIM only: keep every chart globally injective, not only fold-free (SlimOptions::injective).

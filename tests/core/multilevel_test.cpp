@@ -172,6 +172,14 @@ TEST_CASE("coarsening stops at its target, keeps all when the target is the char
   CHECK(again.host == half.host);
 }
 
+TEST_CASE("the service's coarse size: 1/12 of the vertices above a floor of 30,000") {
+  CHECK(default_coarse_vertices(1'200'000) == 100'000);
+  CHECK(default_coarse_vertices(627'469) == 52'289);  // camel cut open at 1.25M faces
+  CHECK(default_coarse_vertices(360'000) == 30'000);
+  CHECK(default_coarse_vertices(200'000) == 30'000);
+  CHECK(default_coarse_vertices(0) == 30'000);
+}
+
 TEST_CASE("coarsen_chart refuses a folded or mismatched start, and cancellation") {
   DomeCase c = dome_case(8, 24);
   auto short_map = coarsen_chart(c.patch, std::vector<Vec2>(3), {});
