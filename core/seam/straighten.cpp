@@ -237,7 +237,7 @@ struct WalkedTopology {
 
 // Nodes: terminals first, then vertices of degree >= 3; branches are walked between them.
 // The tree's adjacency is indexed by its own vertices (sorted), not by the mesh's: each
-// vertex's out-going half-edges, with their edge's place in `tree`, in half-edge order.
+// vertex's out-going half-edges (from TreeVertices::incidence), in half-edge order.
 WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> tree,
                              std::span<const VertexId> terminals) {
   const std::size_t k = terminals.size();
@@ -245,25 +245,19 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
   const TreeVertices& index = walked.tree;
   const std::size_t n = index.size();
   struct Out {
-    HalfedgeId h;
-    std::uint32_t edge;  // place in `tree`
+    HalfedgeId h;        // out of the vertex
+    std::uint32_t slot;  // its end's slot in index.ends: edge slot / 2, the far end ends[slot ^ 1]
     bool operator<(const Out& o) const { return h < o.h; }
   };
-  std::vector<std::uint32_t> offsets(n + 1, 0);
-  for (std::uint32_t end : index.ends) ++offsets[end + 1];
-  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-  std::vector<Out> out(index.ends.size());
-  {
-    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
-    for (std::uint32_t i = 0; i < tree.size(); ++i) {
-      const HalfedgeId h = HalfedgeMesh::halfedge(tree[i]);
-      out[fill[index.ends[2 * i]]++] = {h, i};
-      out[fill[index.ends[2 * i + 1]]++] = {HalfedgeMesh::twin(h), i};
-    }
+  const TreeVertices::Incidence incidence = index.incidence();
+  const std::vector<std::uint32_t>& offsets = incidence.offsets;
+  std::vector<Out> out(incidence.slots.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::uint32_t s = incidence.slots[i];
+    const HalfedgeId h = HalfedgeMesh::halfedge(tree[s / 2]);
+    out[i] = {s % 2 == 0 ? h : HalfedgeMesh::twin(h), s};
   }
   for (std::size_t v = 0; v < n; ++v) std::sort(out.begin() + offsets[v], out.begin() + offsets[v + 1]);
-  // The tree index of the vertex `o` leads to.
-  auto head_of = [&](const Out& o) { return index.ends[2 * o.edge + (o.h == HalfedgeMesh::halfedge(tree[o.edge]))]; };
   TreeTopology& topo = walked.topology;
   std::vector<std::int32_t>& node_of = walked.node_of;
   topo.num_terminals = k;
@@ -273,7 +267,7 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
     if (index.contains(terminals[i])) node_of[index.index(terminals[i])] = static_cast<std::int32_t>(i);
   }
   for (std::size_t v = 0; v < n; ++v) {
-    if (node_of[v] < 0 && offsets[v + 1] - offsets[v] >= 3) {
+    if (node_of[v] < 0 && incidence.degree(static_cast<std::uint32_t>(v)) >= 3) {
       node_of[v] = static_cast<std::int32_t>(topo.nodes.size());
       topo.nodes.push_back(index.vertices[v]);
     }
@@ -283,18 +277,18 @@ WalkedTopology walk_branches(const HalfedgeMesh& mesh, std::span<const EdgeId> t
     if (!index.contains(topo.nodes[a])) continue;  // a terminal the tree misses: no branch
     const std::uint32_t from = index.index(topo.nodes[a]);
     for (std::uint32_t slot = offsets[from]; slot < offsets[from + 1]; ++slot) {
-      if (used[out[slot].edge]) continue;
+      if (used[out[slot].slot / 2]) continue;
       std::vector<HalfedgeId> path;
       Out step = out[slot];
       std::uint32_t w;
       while (true) {
-        used[step.edge] = 1;
+        used[step.slot / 2] = 1;
         path.push_back(step.h);
-        w = head_of(step);
+        w = index.ends[step.slot ^ 1u];
         if (node_of[w] >= 0) break;
-        SEAM_ASSERT(offsets[w + 1] - offsets[w] == 2);
+        SEAM_ASSERT(incidence.degree(w) == 2);
         const Out& first = out[offsets[w]];
-        step = first.edge == step.edge ? out[offsets[w] + 1] : first;
+        step = first.slot / 2 == step.slot / 2 ? out[offsets[w] + 1] : first;
       }
       topo.links.push_back({a, static_cast<std::uint32_t>(node_of[w])});
       topo.paths.push_back(std::move(path));

@@ -63,6 +63,23 @@ struct TreeVertices {
   std::uint32_t index(VertexId v) const {
     return static_cast<std::uint32_t>(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin());
   }
+
+  // Each vertex's edge ends: the slots s (edge s / 2, its tail when s is even, its head when
+  // odd; ends[s ^ 1] is the other end) of vertex v are slots[offsets[v] .. offsets[v + 1]),
+  // in slot order. O(m).
+  struct Incidence {
+    std::vector<std::uint32_t> offsets;
+    std::vector<std::uint32_t> slots;
+    std::uint32_t degree(std::uint32_t v) const { return offsets[v + 1] - offsets[v]; }
+  };
+  Incidence incidence() const {
+    Incidence in{std::vector<std::uint32_t>(size() + 1, 0), std::vector<std::uint32_t>(ends.size())};
+    for (std::uint32_t end : ends) ++in.offsets[end + 1];
+    std::partial_sum(in.offsets.begin(), in.offsets.end(), in.offsets.begin());
+    std::vector<std::uint32_t> fill(in.offsets.begin(), in.offsets.end() - 1);
+    for (std::uint32_t s = 0; s < ends.size(); ++s) in.slots[fill[ends[s]]++] = s;
+    return in;
+  }
 };
 
 // Removes non-terminal leaves until none is left. `edges` must form a forest. The work is
@@ -85,18 +102,14 @@ inline std::vector<EdgeId> prune_dangling(const HalfedgeMesh& mesh, std::vector<
     if (dangling(v)) work.push_back(v);
   }
   if (work.empty()) return edges;
-  // Per vertex its ends (2i + side), newest first.
-  std::vector<std::uint32_t> first(n, UINT32_MAX);
-  std::vector<std::uint32_t> next_slot(tree.ends.size(), UINT32_MAX);
-  for (std::uint32_t s = 0; s < tree.ends.size(); ++s) {
-    next_slot[s] = std::exchange(first[tree.ends[s]], s);
-  }
+  const TreeVertices::Incidence incidence = tree.incidence();
   std::vector<std::uint8_t> removed_edge(edges.size(), 0);
   while (!work.empty()) {
     const std::uint32_t v = work.back();
     work.pop_back();
     if (degree[v] != 1) continue;
-    for (std::uint32_t s = first[v]; s != UINT32_MAX; s = next_slot[s]) {
+    for (std::uint32_t k = incidence.offsets[v]; k < incidence.offsets[v + 1]; ++k) {
+      const std::uint32_t s = incidence.slots[k];
       const std::uint32_t i = s / 2;
       if (removed_edge[i]) continue;
       removed_edge[i] = 1;
