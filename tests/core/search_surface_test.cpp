@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "fixtures.h"
+#include "fixture_mesh.h"
 
 using namespace seam::core;
 namespace fx = seam::fixtures;
@@ -13,8 +13,7 @@ namespace fx = seam::fixtures;
 namespace {
 
 HalfedgeMesh sphere() {
-  const auto s = fx::icosphere(2);
-  return build_halfedge_mesh(s.positions, s.triangles).value();
+  return fx::build_fixture(fx::icosphere(2));
 }
 
 // The graph's rows, compared slot by slot with a graph built directly.

@@ -1,7 +1,8 @@
+#include "core/paths/steiner.h"
+
 #include <doctest/doctest.h>
 
-#include "core/paths/steiner.h"
-#include "fixtures.h"
+#include "fixture_mesh.h"
 #include "tree_oracle.h"
 
 using namespace seam::core;
@@ -9,8 +10,7 @@ namespace fx = seam::fixtures;
 
 namespace {
 HalfedgeMesh sphere() {
-  const auto s = fx::icosphere(3);
-  return build_halfedge_mesh(s.positions, s.triangles).value();
+  return fx::build_fixture(fx::icosphere(3));
 }
 }  // namespace
 
