@@ -18,11 +18,15 @@ struct Box {
   Vec2 hi;
 };
 
-// Items (boxes) bucketed in a uniform grid of about one cell per item; calls
-// f(i, j) once for every pair of items whose boxes meet, i < j, in a deterministic order.
+// Items (boxes) bucketed in a uniform grid of about one cell per item; calls f(i, j) once for
+// every pair of items whose boxes meet, i < j, in a deterministic order. With 0 < split <
+// boxes.size(), only the pairs of an item below `split` with one from `split` on (two kinds of
+// item, e.g. points and edges): the others are never tested. A pair is reported in the cell of
+// its boxes' common lower corner, the first cell both cover in x and y.
 template <class F>
-void for_each_box_pair(const std::vector<Box>& boxes, F&& f) {
+void for_each_box_pair(const std::vector<Box>& boxes, std::size_t split, F&& f) {
   if (boxes.size() < 2) return;
+  if (split >= boxes.size()) split = 0;
   Vec2 lo = boxes[0].lo;
   Vec2 hi = boxes[0].hi;
   for (const Box& b : boxes) {
@@ -36,31 +40,50 @@ void for_each_box_pair(const std::vector<Box>& boxes, F&& f) {
   const auto ny = std::clamp<std::int64_t>(static_cast<std::int64_t>(extent.y() / cell) + 1, 1, 4096);
   auto cx = [&](double x) { return std::clamp<std::int64_t>(static_cast<std::int64_t>((x - lo.x()) / cell), 0, nx - 1); };
   auto cy = [&](double y) { return std::clamp<std::int64_t>(static_cast<std::int64_t>((y - lo.y()) / cell), 0, ny - 1); };
+  // Each box's cells, computed once: the grid pass compares the first cells as integers.
+  struct Cells {
+    std::int32_t x0, y0, x1, y1;
+  };
+  std::vector<Cells> cells(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const Box& b = boxes[i];
+    cells[i] = {static_cast<std::int32_t>(cx(b.lo.x())), static_cast<std::int32_t>(cy(b.lo.y())),
+                static_cast<std::int32_t>(cx(b.hi.x())), static_cast<std::int32_t>(cy(b.hi.y()))};
+  }
   std::vector<std::uint32_t> offset(static_cast<std::size_t>(nx * ny) + 1, 0);
-  auto cells_of = [&](const Box& b, auto&& g) {
-    for (std::int64_t y = cy(b.lo.y()); y <= cy(b.hi.y()); ++y) {
-      for (std::int64_t x = cx(b.lo.x()); x <= cx(b.hi.x()); ++x) g(static_cast<std::size_t>(y * nx + x));
+  auto cells_of = [&](const Cells& c, auto&& g) {
+    for (std::int64_t y = c.y0; y <= c.y1; ++y) {
+      for (std::int64_t x = c.x0; x <= c.x1; ++x) g(static_cast<std::size_t>(y * nx + x));
     }
   };
-  for (const Box& b : boxes) cells_of(b, [&](std::size_t c) { ++offset[c + 1]; });
+  for (const Cells& c : cells) cells_of(c, [&](std::size_t k) { ++offset[k + 1]; });
   for (std::size_t c = 0; c + 1 < offset.size(); ++c) offset[c + 1] += offset[c];
+  // Within a cell the items stay in increasing order, so those below `split` come first.
   std::vector<std::uint32_t> items(offset.back());
   std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
-    cells_of(boxes[i], [&](std::size_t c) { items[fill[c]++] = static_cast<std::uint32_t>(i); });
+    cells_of(cells[i], [&](std::size_t k) { items[fill[k]++] = static_cast<std::uint32_t>(i); });
   }
   for (std::size_t c = 0; c + 1 < offset.size(); ++c) {
-    const auto x = static_cast<std::int64_t>(c) % nx;
-    const auto y = static_cast<std::int64_t>(c) / nx;
-    for (std::uint32_t a = offset[c]; a < offset[c + 1]; ++a) {
-      for (std::uint32_t b = a + 1; b < offset[c + 1]; ++b) {
-        const Box& p = boxes[items[a]];
-        const Box& q = boxes[items[b]];
-        const Vec2 l = p.lo.cwiseMax(q.lo);
-        const Vec2 h = p.hi.cwiseMin(q.hi);
-        if (l.x() > h.x() || l.y() > h.y()) continue;
-        if (cx(l.x()) != x || cy(l.y()) != y) continue;  // reported in the cell of the corner
-        f(std::min(items[a], items[b]), std::max(items[a], items[b]));
+    const auto x = static_cast<std::int32_t>(static_cast<std::int64_t>(c) % nx);
+    const auto y = static_cast<std::int32_t>(static_cast<std::int64_t>(c) / nx);
+    const std::uint32_t* first = items.data() + offset[c];
+    const std::uint32_t* last = items.data() + offset[c + 1];
+    const std::uint32_t* second_kind =
+        split > 0 ? std::lower_bound(first, last, static_cast<std::uint32_t>(split)) : first;
+    const std::uint32_t* a_end = split > 0 ? second_kind : last;
+    for (const std::uint32_t* a = first; a < a_end; ++a) {
+      const Cells& ca = cells[*a];
+      const Box& p = boxes[*a];
+      for (const std::uint32_t* b = split > 0 ? second_kind : a + 1; b < last; ++b) {
+        const Cells& cb = cells[*b];
+        if (std::max(ca.x0, cb.x0) != x || std::max(ca.y0, cb.y0) != y) continue;  // reported elsewhere
+        const Box& q = boxes[*b];
+        if (std::max(p.lo.x(), q.lo.x()) > std::min(p.hi.x(), q.hi.x()) ||
+            std::max(p.lo.y(), q.lo.y()) > std::min(p.hi.y(), q.hi.y())) {
+          continue;
+        }
+        f(*a, *b);
       }
     }
   }
@@ -154,8 +177,7 @@ CollisionStep max_collision_free_step(const DiscPatch& patch, const std::vector<
     boxes[nb + i] = {a.lo.cwiseMin(b.lo), a.hi.cwiseMax(b.hi)};
   }
   double best = std::numeric_limits<double>::infinity();
-  for_each_box_pair(boxes, [&](std::uint32_t i, std::uint32_t j) {
-    if (i >= nb || j < nb) return;  // only vertex-edge pairs
+  for_each_box_pair(boxes, nb, [&](std::uint32_t i, std::uint32_t j) {
     const std::size_t e = j - nb;
     const std::size_t e1 = (e + 1) % nb;
     if (i == e || i == e1) return;  // the edge's own endpoints
@@ -189,7 +211,7 @@ bool boundary_is_simple(const DiscPatch& patch, const std::vector<Vec2>& uv) {
     boxes[i] = {a.cwiseMin(b), a.cwiseMax(b)};
   }
   bool simple = true;
-  for_each_box_pair(boxes, [&](std::uint32_t i, std::uint32_t j) {
+  for_each_box_pair(boxes, 0, [&](std::uint32_t i, std::uint32_t j) {
     if (!simple) return;
     const Vec2& a = uv[loop[i]];
     const Vec2& b = uv[loop[(i + 1) % nb]];

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include <algorithm>
+#include <array>
 #include <numbers>
 
 #include "core/atlas/overlap.h"
@@ -251,6 +252,84 @@ TEST_CASE("the collision step bound stops a boundary vertex exactly at the edge 
   // Moved past the contact, the boundary is no longer simple.
   uv[moving] += 1.5 * dir[moving];
   CHECK_FALSE(boundary_is_simple(patch, uv));
+}
+
+TEST_CASE("the collision step bound finds every colliding vertex-edge pair that a brute-force scan finds") {
+  // A fan disc with a 240-gon boundary on a wobbly circle and every boundary vertex pushed
+  // across the disc by a pseudo-random step: hundreds of crossings, many per grid cell. The
+  // oracle samples each pair's signed distance along the step (independent of the quadratic)
+  // and bisects the first sign change with the vertex over the edge.
+  const std::size_t nb = 240;
+  fx::Soup s;
+  for (std::size_t i = 0; i < nb; ++i) {
+    const double a = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(nb);
+    const double r = 1 + 0.2 * std::sin(7 * a);
+    s.positions.emplace_back(r * std::cos(a), r * std::sin(a), 0);
+  }
+  s.positions.emplace_back(0, 0, 0);
+  for (std::uint32_t i = 0; i < nb; ++i) {
+    s.triangles.push_back({i, static_cast<std::uint32_t>((i + 1) % nb), static_cast<std::uint32_t>(nb)});
+  }
+  const DiscPatch patch = fx::patch_of(s);
+  REQUIRE(patch.boundary.size() == nb);
+  std::vector<Vec2> uv(patch.num_vertices());
+  std::vector<Vec2> dir(patch.num_vertices(), Vec2::Zero());
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    uv[v] = patch.positions[v].head<2>();
+    const double k = static_cast<double>(v);
+    dir[v] = Vec2(std::sin(12.9898 * k) * 0.9, std::cos(78.233 * k) * 0.9);
+  }
+  const double t_max = 1.0;
+  const CollisionStep c = max_collision_free_step(patch, uv, dir, t_max);
+  // The oracle: per pair, the first t on a fine grid where cross(b - a, p - a) changes sign
+  // with p between a and b, refined by bisection.
+  auto cross_at = [&](std::uint32_t p, std::uint32_t a, std::uint32_t b, double t) {
+    const Vec2 pa = uv[a] + t * dir[a];
+    const Vec2 e = uv[b] + t * dir[b] - pa;
+    const Vec2 q = uv[p] + t * dir[p] - pa;
+    return std::pair(e.x() * q.y() - e.y() * q.x(), e.squaredNorm() > 0 ? q.dot(e) / e.squaredNorm() : -1.0);
+  };
+  std::size_t expected_pairs = 0;
+  double expected_step = t_max;
+  std::vector<std::array<std::uint32_t, 3>> expected;
+  const int samples = 4000;
+  for (std::size_t i = 0; i < nb; ++i) {
+    for (std::size_t e = 0; e < nb; ++e) {
+      const std::size_t e1 = (e + 1) % nb;
+      if (i == e || i == e1) continue;
+      const std::uint32_t p = patch.boundary[i], a = patch.boundary[e], b = patch.boundary[e1];
+      double previous = cross_at(p, a, b, 0).first;
+      for (int k = 1; k <= samples; ++k) {
+        const double t = t_max * k / samples;
+        const double now = cross_at(p, a, b, t).first;
+        if ((previous < 0) != (now < 0)) {
+          double lo = t_max * (k - 1) / samples, hi = t;
+          for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            ((cross_at(p, a, b, mid).first < 0) == (previous < 0) ? lo : hi) = mid;
+          }
+          const double along = cross_at(p, a, b, hi).second;
+          if (along >= 0 && along <= 1) {
+            ++expected_pairs;
+            expected_step = std::min(expected_step, hi);
+            expected.push_back({p, a, b});
+            break;
+          }
+        }
+        previous = now;
+      }
+    }
+  }
+  REQUIRE(expected_pairs > 100);
+  CHECK(c.limited);
+  CHECK(c.step == doctest::Approx(expected_step).epsilon(1e-6));
+  std::vector<std::array<std::uint32_t, 3>> found;
+  for (const auto& k : c.contacts) found.push_back({k.vertex, k.a, k.b});
+  std::sort(found.begin(), found.end());
+  std::sort(expected.begin(), expected.end());
+  CHECK(found == expected);
+  CHECK(c.candidate_pairs >= found.size());
+  CHECK(c.candidate_pairs < nb * (nb - 2));  // the grid tested a part of the pairs
 }
 
 TEST_CASE("a chart whose boundary keeps touching itself stops within the step budget, injective") {
