@@ -51,6 +51,10 @@ struct SlimResult {
   int iterations = 0;    ///< global steps taken
   int factorizations = 0;  ///< numeric factorizations of the proxy: one per step, plus a retry
                            ///< with capped weights, plus one per step whose contacts needed springs
+                           ///< and whose factor could not take them by an update
+  /// Steps whose springs went into the step's factor by a low-rank update instead of a
+  /// factorization (a simplicial factor: SparseCholesky::update_diagonal).
+  int factor_updates = 0;
   /// Area-weighted mean symmetric Dirichlet energy s1^2 + 1/s1^2 + s2^2 + 1/s2^2 (4 for an
   /// isometry) of the start after scaling, and of the result.
   double energy_start = 0;
@@ -87,9 +91,10 @@ struct SlimResult {
 /// that would cross itself stops at 90% of the contact, step after step). A contact-limited
 /// step re-minimises the proxy with the colliding vertex-edge pairs as linearised contacts,
 /// solved with the step's own factor (the vertices slide along the edges they touch), so it
-/// costs one factorization like any step, or two where the contacts do not suffice (pairs that
-/// still collide, or more than a factorization's worth of solves: springs and one re-solve,
-/// as before issue 14); the step budget is the same with or without contacts
+/// costs one factorization like any step. Where the contacts do not suffice (pairs that still
+/// collide, or more than a factorization's worth of solves) the vertices are held by springs,
+/// added to the step's factor by a low-rank update when it is simplicial (else by a second
+/// factorization), and the step is solved again; the step budget is the same with or without contacts
 /// (3x iterations from a Tutte start), and a contact-limited step ends the descent when the
 /// last 3 steps together gained less than 1.5x the tolerance (deterministic: counts, no clock).
 /// Errors: kInvalidArgument (initial.size() != patch vertices, options out of range, a

@@ -4,6 +4,7 @@
 #include <metis.h>
 
 #include <algorithm>
+#include <cmath>
 #include <mutex>
 
 #include "core/error.h"
@@ -257,6 +258,44 @@ std::vector<int> restrict_order(std::span<const int> order, std::span<const Eige
     if (unknown >= 0) restricted.push_back(static_cast<int>(unknown));
   }
   return restricted;
+}
+
+bool SparseCholesky::update_diagonal(std::span<const std::pair<int, double>> additions) {
+  SEAM_ASSERT(m_cholmodFactor != nullptr && m_factorizationIsOk);
+  if (additions.empty()) return true;
+  if (m_cholmodFactor->is_super != 0) return false;
+  const auto n = static_cast<int>(m_cholmodFactor->n);
+  if (position_.empty()) {
+    position_.assign(static_cast<std::size_t>(n), 0);
+    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+    for (int i = 0; i < n; ++i) position_[static_cast<std::size_t>(perm ? perm[i] : i)] = i;
+  }
+  // C: one column sqrt(value) e_row per addition, rows in the factor's order (CHOLMOD updates
+  // the factor of P A P^T, so C is P C); A + C C^T adds the values to the diagonal.
+  const auto k = additions.size();
+  cholmod_sparse* c = cholmod_allocate_sparse(static_cast<std::size_t>(n), k, k, 1, 1, 0, CHOLMOD_REAL, &cholmod());
+  if (c == nullptr) return false;
+  auto* cp = static_cast<int*>(c->p);
+  auto* ci = static_cast<int*>(c->i);
+  auto* cx = static_cast<double*>(c->x);
+  for (std::size_t j = 0; j < k; ++j) {
+    SEAM_ASSERT(additions[j].second >= 0);
+    cp[j] = static_cast<int>(j);
+    ci[j] = position_[static_cast<std::size_t>(additions[j].first)];
+    cx[j] = std::sqrt(additions[j].second);
+  }
+  cp[k] = static_cast<int>(k);
+  // cholmod_updown works on LDL^T (converting the LL^T factor in place, same pattern: C adds
+  // no fill, every row of C is a column of L); then back to LL^T for half_solve_sparse.
+  const bool ok = cholmod_updown(1, c, m_cholmodFactor, &cholmod()) != 0 &&
+                  cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, m_cholmodFactor, &cholmod()) != 0 &&
+                  cholmod().status == CHOLMOD_OK;
+  cholmod_free_sparse(&c, &cholmod());
+  if (!ok) {
+    m_factorizationIsOk = false;
+    m_info = Eigen::NumericalIssue;
+  }
+  return ok;
 }
 
 bool SparseCholesky::supernodal() const { return m_cholmodFactor != nullptr && m_cholmodFactor->is_super != 0; }
