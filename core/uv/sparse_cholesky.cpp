@@ -80,14 +80,17 @@ SparseCholesky::~SparseCholesky() {
   cholmod_free_dense(&e_, &cholmod());
 }
 
+void SparseCholesky::cache_positions() {
+  if (!position_.empty()) return;
+  const auto n = static_cast<int>(m_cholmodFactor->n);
+  position_.assign(static_cast<std::size_t>(n), 0);
+  const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+  for (int i = 0; i < n; ++i) position_[static_cast<std::size_t>(perm ? perm[i] : i)] = i;
+}
+
 std::vector<std::pair<int, double>> SparseCholesky::half_solve_sparse(std::span<const std::pair<int, double>> b) {
   SEAM_ASSERT(m_cholmodFactor != nullptr && m_factorizationIsOk && m_cholmodFactor->is_ll != 0);
-  const auto n = static_cast<int>(m_cholmodFactor->n);
-  if (position_.empty()) {
-    position_.assign(static_cast<std::size_t>(n), 0);
-    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
-    for (int i = 0; i < n; ++i) position_[static_cast<std::size_t>(perm ? perm[i] : i)] = i;
-  }
+  cache_positions();
   return m_cholmodFactor->is_super != 0 ? half_solve_supernodal(b) : half_solve_simplicial(b);
 }
 
@@ -265,11 +268,7 @@ bool SparseCholesky::update_diagonal(std::span<const std::pair<int, double>> add
   if (additions.empty()) return true;
   if (m_cholmodFactor->is_super != 0) return false;
   const auto n = static_cast<int>(m_cholmodFactor->n);
-  if (position_.empty()) {
-    position_.assign(static_cast<std::size_t>(n), 0);
-    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
-    for (int i = 0; i < n; ++i) position_[static_cast<std::size_t>(perm ? perm[i] : i)] = i;
-  }
+  cache_positions();
   // C: one column sqrt(value) e_row per addition, rows in the factor's order (CHOLMOD updates
   // the factor of P A P^T, so C is P C); A + C C^T adds the values to the diagonal.
   const auto k = additions.size();

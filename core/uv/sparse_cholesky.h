@@ -158,6 +158,8 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
 
   // Base::analyzePattern with cholmod_analyze_p and the given order (Eigen has no such call).
   void analyze_with_order(const Eigen::SparseMatrix<double>& matrix, std::span<const int> order);
+  // position_ from the factor's permutation, once per analysis.
+  void cache_positions();
   // half_solve_sparse's two kinds; position_ filled.
   std::vector<std::pair<int, double>> half_solve_simplicial(std::span<const std::pair<int, double>> b);
   std::vector<std::pair<int, double>> half_solve_supernodal(std::span<const std::pair<int, double>> b);
