@@ -130,15 +130,15 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   std::vector<std::pair<int, double>> half_solve_sparse(std::span<const std::pair<int, double>> b);
 
   /// The factor of the factored matrix plus `additions` on its diagonal ((unknown, value),
-  /// distinct unknowns, values >= 0), by a rank-k update of a simplicial factor
+  /// values >= 0; an unknown listed twice gets both), by a rank-k update of a simplicial factor
   /// (cholmod_updown; Davis & Hager 2001): each unknown costs about the entries of L on its
   /// path to the root of the elimination tree, far less than a numeric factorization when k is
   /// small. The factor stays LL^T, so solves and half_solve_sparse go on as before. The caller
-  /// updates its own copy of the matrix. Returns false, with the factor no longer valid (call
-  /// factorize() on the updated matrix), when the factor is supernodal (CHOLMOD would convert
-  /// it to a simplicial one the size of L) or CHOLMOD fails. Precondition (SEAM_ASSERT): a
-  /// successful factorize(). Not bit-identical to factorizing the updated matrix: the same
-  /// factor up to rounding.
+  /// updates its own copy of the matrix. Returns false when the factor is supernodal (CHOLMOD
+  /// would convert it to a simplicial one the size of L; the factor is left as it was) or
+  /// CHOLMOD fails (the factor is then unusable); either way the caller factorizes the updated
+  /// matrix instead. Precondition (SEAM_ASSERT): a successful factorize(). Not bit-identical to
+  /// factorizing the updated matrix: the same factor up to rounding.
   bool update_diagonal(std::span<const std::pair<int, double>> additions);
 
  private:
