@@ -663,9 +663,9 @@ struct ContactRound {
 // the contacts do not suffice. The springs go into the step's factor by a rank update of their
 // unknowns (refactor_held; a second factorization for a supernodal factor): camel x64's coarse
 // chart (52k vertices, 7 of 12 steps with springs) 19 -> 12 factorizations, the same steps
-// and energy. Held vertices whose motion is
-// merely zeroed, without that re-solve, let their tiny neighbours degenerate within 0.1% of
-// the step (camel x64: stalled at energy 5.51 instead of 4.34). Then the step is re-solved.
+// and energy. Held vertices whose motion is merely zeroed, without that re-solve, let their
+// tiny neighbours degenerate within 0.1% of the step (camel x64: stalled at energy 5.51
+// instead of 4.34). Then the step is re-solved.
 void add_contacts(Descent& d, CollisionStep& collision, ContactRound& state) {
   const std::vector<Vec2>& uv = d.result.uv;
   std::sort(collision.contacts.begin(), collision.contacts.end(), [](const auto& x, const auto& y) {
