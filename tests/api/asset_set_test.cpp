@@ -30,6 +30,8 @@
 #include "api/pipeline.h"
 #include "gltf_test_util.h"
 
+namespace seam_asset_set_test {
+
 namespace {
 
 using namespace seam;
@@ -520,3 +522,5 @@ TEST_CASE("asset set: Draco output keeps the input's quantization bits per attri
   check_draco_quantization("props_draco.glb");
   check_draco_quantization("skinned_draco.glb");
 }
+
+}  // namespace seam_asset_set_test

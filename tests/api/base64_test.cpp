@@ -5,6 +5,8 @@
 
 #include <random>
 
+namespace seam_base64_test {
+
 using namespace seam::api;
 
 TEST_CASE("base64 round-trips every length and refuses corrupt input") {
@@ -43,3 +45,5 @@ TEST_CASE("base64 errors say where") {
   CHECK(cut.error().kind == Base64Error::Kind::kTruncated);
   CHECK(cut.error().symbols == 5);
 }
+
+}  // namespace seam_base64_test

@@ -23,6 +23,8 @@
 #include "gltf_test_util.h"
 #include "test_data.h"
 
+namespace seam_cli_test {
+
 namespace {
 
 using nlohmann::json;
@@ -568,3 +570,5 @@ TEST_CASE("seamd batch cuts a folder over two workers, keeps going past a failur
   CHECK(clash.code == 2);  // hand.obj and hand.off would both be hand.glb
   CHECK(error_of(clash)["message"].get<std::string>().find("hand.glb") != std::string::npos);
 }
+
+}  // namespace seam_cli_test

@@ -17,6 +17,8 @@
 #include "draco_payloads.h"
 #include "fixtures.h"
 
+namespace seam_draco_io_test {
+
 namespace {
 
 using namespace seam;
@@ -185,3 +187,5 @@ TEST_CASE("draco: a bool attribute is refused before draco converts it (gltf_fuz
   auto reproducer = decode(bytes);
   CHECK_FALSE(reproducer.ok());
 }
+
+}  // namespace seam_draco_io_test

@@ -22,6 +22,8 @@
 #include "gltf_test_util.h"
 #include "test_data.h"
 
+namespace seam_gltf_io_test {
+
 namespace {
 
 using namespace seam;
@@ -464,3 +466,5 @@ TEST_CASE("gltf: a Draco primitive whose POSITION comes from its accessor must h
   CAPTURE(prim.error().message);
   CHECK(prim.error().message.find("41 vertices but the Draco data has 42") != std::string::npos);
 }
+
+}  // namespace seam_gltf_io_test

@@ -8,6 +8,8 @@
 #include "api/json_limits.h"
 #include "api/pipeline.h"
 
+namespace seam_json_limits_test {
+
 namespace {
 
 using namespace seam::api;
@@ -119,3 +121,5 @@ TEST_CASE("params_from_json describes an invalid deep value instead of dumping i
   REQUIRE(!scalar.ok());
   CHECK(scalar.error().message.find("got -4") != std::string::npos);
 }
+
+}  // namespace seam_json_limits_test

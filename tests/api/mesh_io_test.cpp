@@ -3,6 +3,8 @@
 #include "api/mesh_io.h"
 #include "fixtures.h"
 
+namespace seam_mesh_io_test {
+
 using namespace seam;
 using api::ApiErrorCode;
 
@@ -96,3 +98,5 @@ TEST_CASE("every API error code has a snake_case name and the contract's status"
   CHECK(body["error"]["details"]["elements"] == nlohmann::json::array({0, 1}));
   CHECK(api::from_core(core::make_error(core::ErrorCode::kCancelled, "x")).code == C::kTimeout);
 }
+
+}  // namespace seam_mesh_io_test

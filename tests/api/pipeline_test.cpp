@@ -25,6 +25,8 @@
 #include "gltf_test_util.h"
 #include "test_data.h"
 
+namespace seam_pipeline_test {
+
 namespace {
 
 using namespace seam;
@@ -741,3 +743,5 @@ TEST_CASE("limits.threads bounds the job's threads, and one thread gives the sam
   CHECK(one.body["cut"] == two.body["cut"]);
   CHECK(one.glb == two.glb);
 }
+
+}  // namespace seam_pipeline_test

@@ -9,6 +9,8 @@
 
 #include "api/process_env.h"
 
+namespace seam_process_env_test {
+
 using seam::api::ProcessEnv;
 using seam::api::process_env_in_place;
 using seam::api::tunables_with_huge_pages;
@@ -78,3 +80,5 @@ TEST_CASE("process env: in place when every wanted setting is in the environment
     CHECK(process_env_in_place(both));
   }
 }
+
+}  // namespace seam_process_env_test

@@ -11,6 +11,8 @@
 #include "api/pipeline.h"
 #include "test_data.h"
 
+namespace seam_steering_test {
+
 namespace {
 
 using namespace seam;
@@ -134,3 +136,5 @@ TEST_CASE("_SEAM_COST: a painted expensive half makes the seam cheaper under the
   CHECK(refused.error().code == ApiErrorCode::kMalformedAsset);
   CHECK(refused.error().details["vertex"] == 3);
 }
+
+}  // namespace seam_steering_test

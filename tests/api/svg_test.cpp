@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+namespace seam_svg_test {
+
 namespace {
 
 using seam::api::render_uv_svg;
@@ -225,3 +227,5 @@ TEST_CASE("boundary_edges: edges used by one triangle, in order of first use") {
   const auto& d = paths[0].attributes.at("d");
   CHECK(std::count(d.begin(), d.end(), 'M') == 7);  // 4 quad sides + 3 triangle sides
 }
+
+}  // namespace seam_svg_test

@@ -16,6 +16,8 @@
 #include "gltf_test_util.h"
 #include "test_data.h"
 
+namespace seam_whole_asset_test {
+
 namespace {
 
 using namespace seam;
@@ -318,3 +320,5 @@ TEST_CASE("pack split: a sprawling chart is cut into pieces that pack fuller, th
   std::string report;
   CHECK_MESSAGE(test_gltf::validator_errors(split.glb, report, "split_out.glb") == 0, report);
 }
+
+}  // namespace seam_whole_asset_test

@@ -16,6 +16,8 @@
 #include "core/uv/bff.h"
 #include "uv_fixture.h"
 
+namespace seam_arap_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -227,3 +229,5 @@ TEST_CASE("arap: stops with kCancelled when cancelled") {
     return flatten_arap(patch, planar_start(patch, Eigen::Matrix2d::Identity(), Vec2::Zero()), 10, token);
   });
 }
+
+}  // namespace seam_arap_test

@@ -15,6 +15,8 @@
 #include "fixture_mesh.h"
 #include "test_data.h"
 
+namespace seam_atlas_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -128,3 +130,5 @@ TEST_CASE("pack_atlas refuses members it cannot pack") {
   REQUIRE(empty.ok());
   CHECK(empty->charts == 0);
 }
+
+}  // namespace seam_atlas_test

@@ -12,6 +12,8 @@
 #include "seam_fixtures.h"
 #include "test_data.h"
 
+namespace seam_baselines_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -326,3 +328,5 @@ TEST_CASE("optimal_seam with an upper bound: the same optimum below it, nothing 
     CHECK(below->edges.empty());
   }
 }
+
+}  // namespace seam_baselines_test

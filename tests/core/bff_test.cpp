@@ -8,6 +8,8 @@
 #include "core/uv/bff.h"
 #include "uv_fixture.h"
 
+namespace seam_bff_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -81,3 +83,5 @@ TEST_CASE("BFF in a given vertex order (shared with SLIM) maps as in its own, an
 TEST_CASE("BFF stops with kCancelled when cancelled") {
   fx::check_stops_when_cancelled([](const DiscPatch& patch, const CancelToken& token) { return flatten_bff(patch, token); });
 }
+
+}  // namespace seam_bff_test

@@ -9,6 +9,8 @@
 #include "fixture_mesh.h"
 #include "test_data.h"
 
+namespace seam_cut_graph_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -125,3 +127,5 @@ TEST_CASE("cut graph honours cancellation") {
   REQUIRE(!cg.ok());
   CHECK(cg.error().code == ErrorCode::kCancelled);
 }
+
+}  // namespace seam_cut_graph_test

@@ -10,6 +10,8 @@
 #include "fixture_mesh.h"
 #include "test_data.h"
 
+namespace seam_cut_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -185,3 +187,5 @@ TEST_CASE("check_cut_is_disc agrees with cutting and checking, on random edge se
   }
   CHECK(agreed == 400);
 }
+
+}  // namespace seam_cut_test

@@ -12,6 +12,8 @@
 
 #include "core/uv/distortion.h"
 
+namespace seam_distortion_test {
+
 using namespace seam::core;
 
 namespace {
@@ -125,3 +127,5 @@ TEST_CASE("distortion: measure_distortion of an isometric, a scaled and a flippe
   const std::vector<Vec2> mirrored = {{0, 0}, {1, 0}, {1, -1}, {0, 1}};
   CHECK(measure_distortion(positions, triangles, mirrored).flipped == 1);
 }
+
+}  // namespace seam_distortion_test

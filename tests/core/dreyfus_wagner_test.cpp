@@ -9,6 +9,8 @@
 #include "core/paths/dreyfus_wagner.h"
 #include "fixtures.h"
 
+namespace seam_dreyfus_wagner_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -209,3 +211,5 @@ TEST_CASE("Dreyfus-Wagner: the target's lower bound rules out only trees that ca
   CHECK(ruled_out > 0);
   CHECK(kept > 0);
 }
+
+}  // namespace seam_dreyfus_wagner_test

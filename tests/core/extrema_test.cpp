@@ -14,6 +14,8 @@
 #include "fixtures.h"
 #include "test_data.h"
 
+namespace seam_extrema_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -484,3 +486,5 @@ TEST_CASE("extrema with the caller's topology: the same tips, and a topology of 
   REQUIRE_FALSE(wrong.ok());
   CHECK(wrong.error().code == ErrorCode::kInvalidArgument);
 }
+
+}  // namespace seam_extrema_test

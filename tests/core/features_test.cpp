@@ -14,6 +14,8 @@
 #include "fixture_mesh.h"
 #include "test_data.h"
 
+namespace seam_features_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -136,3 +138,5 @@ TEST_CASE("feature options out of range are typed errors") {
   CHECK(find_feature_edges(cube, {.max_dangling_fraction = 2}).error().code == ErrorCode::kInvalidArgument);
   CHECK(find_feature_edges(cube, {.feature_angle_deg = std::nan("")}).error().code == ErrorCode::kInvalidArgument);
 }
+
+}  // namespace seam_features_test

@@ -17,6 +17,8 @@
 
 #include "fixture_mesh.h"
 
+namespace seam_forest_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -352,3 +354,5 @@ TEST_CASE("forest: empty input, repeated edges and input order do not change the
   CHECK(pruned_spanning_forest(mesh, edges, keep) == once);
   check_properties(Oracle{mesh, {}, {}}, edges, keep, once);
 }
+
+}  // namespace seam_forest_test

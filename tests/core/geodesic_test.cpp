@@ -5,6 +5,8 @@
 #include "core/paths/geodesic.h"
 #include "fixtures.h"
 
+namespace seam_geodesic_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -133,3 +135,5 @@ TEST_CASE("custom edge weights, max distance, errors and cancellation") {
   CHECK(r.error().code == ErrorCode::kCancelled);
   (void)cancelled;
 }
+
+}  // namespace seam_geodesic_test

@@ -7,6 +7,8 @@
 #include "core/mesh/halfedge_mesh.h"
 #include "fixtures.h"
 
+namespace seam_halfedge_mesh_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -188,3 +190,5 @@ TEST_CASE("sorted_edge_uses is std::sort's (key, corner) order, fins, a pole and
     CHECK(uses[i].corner == expected[i].corner);
   }
 }
+
+}  // namespace seam_halfedge_mesh_test

@@ -18,6 +18,8 @@
 #include "test_data.h"
 #include "tree_oracle.h"
 
+namespace seam_improve_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -30,7 +32,6 @@ HalfedgeMesh spiky_mesh(int spikes, std::vector<VertexId>& tips) {
   for (auto t : s.tips) tips.push_back(VertexId(t));
   return build_halfedge_mesh(s.soup.positions, s.soup.triangles).value();
 }
-
 
 }  // namespace
 
@@ -232,3 +233,5 @@ TEST_CASE(
     CHECK(starved->empty());
   }
 }
+
+}  // namespace seam_improve_test

@@ -10,6 +10,8 @@
 #include "core/uv/lscm.h"
 #include "uv_fixture.h"
 
+namespace seam_lscm_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -76,3 +78,5 @@ TEST_CASE("LSCM flattens a curved cap nearly conformally and without folds") {
 TEST_CASE("LSCM stops with kCancelled when cancelled") {
   fx::check_stops_when_cancelled([](const DiscPatch& patch, const CancelToken& token) { return flatten_lscm(patch, token); });
 }
+
+}  // namespace seam_lscm_test

@@ -25,6 +25,8 @@
 #include "test_data.h"
 #include "uv_fixture.h"
 
+namespace seam_multilevel_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -283,3 +285,5 @@ TEST_CASE("parameterize takes the two-level path from multilevel_min_faces on, a
   REQUIRE(overlap.ok());
   CHECK(overlap->overlap_area == 0);
 }
+
+}  // namespace seam_multilevel_test

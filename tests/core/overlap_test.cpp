@@ -16,6 +16,8 @@
 #include "fixture_mesh.h"
 #include "test_data.h"
 
+namespace seam_overlap_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 namespace at = seam::atlas_test;
@@ -294,3 +296,5 @@ TEST_CASE("a chart inside another, both counter-clockwise and disjoint in outlin
   // The small disc's area (0.3^2 of the big one's) is covered twice.
   CHECK(r.overlap_area == doctest::Approx(r.uv_area * 0.09 / 1.09).epsilon(1e-9));
 }
+
+}  // namespace seam_overlap_test

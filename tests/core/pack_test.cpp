@@ -25,6 +25,8 @@
 #include "test_data.h"
 #include "uv_fixture.h"
 
+namespace seam_pack_test {
+
 using namespace seam::core;
 
 namespace {
@@ -564,3 +566,5 @@ TEST_CASE("convex_hull equals gift wrapping on clouds whose points are mostly in
     for (std::size_t i = 0; i < hull.size(); ++i) CHECK(hull[i] == oracle[i]);
   }
 }
+
+}  // namespace seam_pack_test

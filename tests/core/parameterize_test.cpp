@@ -22,6 +22,8 @@
 #include "test_data.h"
 #include "uv_fixture.h"
 
+namespace seam_parameterize_test {
+
 using namespace seam::core;
 using seam::fixtures::Soup;
 
@@ -456,3 +458,5 @@ TEST_CASE("parameterize with the caller's topology: the same map, and a topology
   REQUIRE_FALSE(wrong.ok());
   CHECK(wrong.error().code == ErrorCode::kInvalidArgument);
 }
+
+}  // namespace seam_parameterize_test

@@ -13,6 +13,8 @@
 
 #include "fixtures.h"
 
+namespace seam_path_search_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -349,3 +351,5 @@ TEST_CASE("ordered_bits orders as the doubles do (negative keys and both zeros i
   }
   CHECK(heap.empty());
 }
+
+}  // namespace seam_path_search_test

@@ -15,13 +15,14 @@
 #include "skeleton_fixtures.h"
 #include "test_data.h"
 
+namespace seam_refine_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
 using seam::test_oracle::full_component_length;
 
 namespace {
-
 
 std::vector<VertexId> random_terminals(const HalfedgeMesh& mesh, std::size_t k, std::mt19937& rng) {
   std::vector<VertexId> terminals;
@@ -190,3 +191,5 @@ TEST_CASE("refine_tree's shortcuts (lower-bound skips, reused regions) leave eve
   CHECK(ruled_out > 0);
   CHECK(saved_searches > 0);
 }
+
+}  // namespace seam_refine_test

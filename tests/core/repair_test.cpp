@@ -12,6 +12,8 @@
 #include "core/mesh/topology.h"
 #include "fixtures.h"
 
+namespace seam_repair_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -209,3 +211,5 @@ TEST_CASE("everything at once: fin, flipped patch and degenerate faces on one sp
   const Topology t = compute_topology(mesh);
   CHECK(t.components.size() == 2);
 }
+
+}  // namespace seam_repair_test

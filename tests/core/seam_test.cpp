@@ -13,6 +13,8 @@
 #include "seam_fixtures.h"
 #include "test_data.h"
 
+namespace seam_seam_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -516,3 +518,5 @@ TEST_CASE("compute_seam with the caller's topology: the same seam, and a topolog
   REQUIRE_FALSE(wrong.ok());
   CHECK(wrong.error().code == ErrorCode::kInvalidArgument);
 }
+
+}  // namespace seam_seam_test

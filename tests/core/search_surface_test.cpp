@@ -7,6 +7,8 @@
 
 #include "fixture_mesh.h"
 
+namespace seam_search_surface_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -75,3 +77,5 @@ TEST_CASE("search surface: a move keeps the graph where searches found it") {
   CHECK(&moved.mesh() == &mesh);
   CHECK(moved.weight(EdgeId(0u)) == 2.0);
 }
+
+}  // namespace seam_search_surface_test

@@ -11,6 +11,8 @@
 #include "fixtures.h"
 #include "skeleton_fixtures.h"
 
+namespace seam_shrink_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -155,3 +157,5 @@ TEST_CASE("shrink_tour reports cancellation") {
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == ErrorCode::kCancelled);
 }
+
+}  // namespace seam_shrink_test

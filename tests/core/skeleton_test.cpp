@@ -16,6 +16,8 @@
 #include "skeleton_fixtures.h"
 #include "test_data.h"
 
+namespace seam_skeleton_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -286,3 +288,5 @@ TEST_CASE("real CGAL meshes (hand, camel): full-component tree, lengths against 
     }
   }
 }
+
+}  // namespace seam_skeleton_test

@@ -18,6 +18,8 @@
 #include <thread>
 #include <vector>
 
+namespace seam_sparse_cholesky_test {
+
 using seam::core::SparseCholesky;
 
 namespace {
@@ -430,3 +432,5 @@ TEST_CASE("a diagonal update of a simplicial factor solves as the factorization 
   REQUIRE(dense_factor.supernodal());
   CHECK_FALSE(dense_factor.update_diagonal(springs));
 }
+
+}  // namespace seam_sparse_cholesky_test

@@ -9,6 +9,8 @@
 #include "fixtures.h"
 #include "test_data.h"
 
+namespace seam_split_pinched_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -93,3 +95,5 @@ TEST_CASE("CGAL's cow, refused for its pinched vertex once welded, builds after 
   REQUIRE(mesh.ok());
   CHECK(check_invariants(*mesh).ok());
 }
+
+}  // namespace seam_split_pinched_test

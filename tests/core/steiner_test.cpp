@@ -5,6 +5,8 @@
 #include "fixture_mesh.h"
 #include "tree_oracle.h"
 
+namespace seam_steiner_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -150,3 +152,5 @@ TEST_CASE("make_steiner_tree finds Steiner points, branches and the length of a 
   doubled.insert(doubled.end(), edges.begin(), edges.end());
   CHECK(make_steiner_tree(mesh, doubled, leaves).edges == st.edges);
 }
+
+}  // namespace seam_steiner_test

@@ -9,6 +9,8 @@
 #include "core/seam/straighten.h"
 #include "fixtures.h"
 
+namespace seam_straighten_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -169,3 +171,5 @@ TEST_CASE("star_tree: every terminal a leaf of one tree on random sets, refused 
   REQUIRE_FALSE(refused.ok());
   CHECK(refused.error().code == ErrorCode::kInvalidArgument);
 }
+
+}  // namespace seam_straighten_test

@@ -17,6 +17,8 @@
 #include "fixture_mesh.h"
 #include "test_data.h"
 
+namespace seam_submesh_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -386,3 +388,5 @@ TEST_CASE("submesh: map_edges drops edges whose ends are not adjacent or collaps
   CHECK(kept < edges.size());
   CHECK(kept >= 8 + 8 + 8);  // the inner ring's edges and spokes to the centre, the outer ring
 }
+
+}  // namespace seam_submesh_test

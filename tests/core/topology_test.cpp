@@ -8,6 +8,8 @@
 #include "fixtures.h"
 #include "test_data.h"
 
+namespace seam_topology_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -103,3 +105,5 @@ TEST_CASE("real CGAL meshes have the topology they are known to have") {
     CHECK(t.boundary_loops.size() == c.boundary_loops);
   }
 }
+
+}  // namespace seam_topology_test

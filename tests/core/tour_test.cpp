@@ -10,6 +10,8 @@
 #include "skeleton_fixtures.h"
 #include "tree_oracle.h"
 
+namespace seam_tour_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -152,3 +154,5 @@ TEST_CASE("Algorithm 2: the tour visits every terminal exactly once, without sel
     CHECK(again->tour.pieces == tour.pieces);
   }
 }
+
+}  // namespace seam_tour_test

@@ -7,6 +7,8 @@
 #include "core/seam/tree_util.h"
 #include "fixture_mesh.h"
 
+namespace seam_tree_util_test {
+
 using namespace seam::core;
 using namespace seam::core::detail;
 namespace fx = seam::fixtures;
@@ -76,3 +78,5 @@ TEST_CASE("prune_dangling: a chain off the path between two terminals goes, the 
   const std::vector<VertexId> ends = {mesh.tail(walk[0]), mesh.head(walk.back())};
   CHECK(prune_dangling(mesh, edges, ends) == edges);
 }
+
+}  // namespace seam_tree_util_test

@@ -10,6 +10,8 @@
 
 #include "uv_fixture.h"
 
+namespace seam_uv_patch_test {
+
 namespace fx = seam::fixtures;
 using seam::core::DiscPatch;
 
@@ -154,3 +156,5 @@ TEST_CASE("untangle with an area floor fattens thin triangles without folding an
   CHECK(seam::core::count_flipped(patch, uv) == 0);
   CHECK(uv[0].norm() < 0.1);  // back near the centre of its ring
 }
+
+}  // namespace seam_uv_patch_test

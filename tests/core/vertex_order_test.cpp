@@ -10,6 +10,8 @@
 #include "core/mesh/vertex_order.h"
 #include "fixtures.h"
 
+namespace seam_vertex_order_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -133,3 +135,5 @@ TEST_CASE("sort_triangles is std::stable_sort on the triples, with repeats and a
   std::vector<Triangle> none;
   CHECK(sort_triangles(none, 0).empty());
 }
+
+}  // namespace seam_vertex_order_test

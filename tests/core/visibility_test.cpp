@@ -6,6 +6,8 @@
 #include "core/visibility/visibility.h"
 #include "fixtures.h"
 
+namespace seam_visibility_test {
+
 using namespace seam::core;
 namespace fixtures = seam::fixtures;
 
@@ -103,3 +105,5 @@ TEST_CASE("bad views are refused") {
   many.ao_rays = 0;
   CHECK(compute_visibility(cube, many).error().code == ErrorCode::kInvalidArgument);
 }
+
+}  // namespace seam_visibility_test

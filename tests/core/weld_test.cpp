@@ -9,6 +9,8 @@
 #include "core/mesh/weld.h"
 #include "fixtures.h"
 
+namespace seam_weld_test {
+
 using namespace seam::core;
 namespace fx = seam::fixtures;
 
@@ -130,3 +132,5 @@ TEST_CASE("exact welding numbers vertices as a brute-force std::map weld does") 
   CHECK(weld.welded_to_input == expected_welded_to_input);
   CHECK(weld.positions.size() == seen.size());
 }
+
+}  // namespace seam_weld_test

@@ -11,6 +11,8 @@
 
 #include "seamd_process.h"
 
+namespace seam_burst_test {
+
 using namespace seam::test_process;
 using namespace std::chrono_literals;
 
@@ -100,3 +102,5 @@ TEST_CASE("burst: 256 clients connecting at once all get an HTTP answer, none a 
   }
   CHECK(status_of(seamd.get("/healthz")) == 200);
 }
+
+}  // namespace seam_burst_test

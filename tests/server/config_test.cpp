@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+namespace seam_config_test {
+
 namespace {
 
 using seam::server::parse_config;
@@ -142,3 +144,5 @@ TEST_CASE("config: the face limit follows the memory limit, and the drain covers
   c.drain_timeout_s = 3;
   CHECK(effective_drain_timeout_s(c) == 3);
 }
+
+}  // namespace seam_config_test

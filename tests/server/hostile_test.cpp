@@ -13,6 +13,8 @@
 
 #include "seamd_process.h"
 
+namespace seam_hostile_test {
+
 using namespace seam::test_process;
 using namespace std::chrono_literals;
 
@@ -377,3 +379,5 @@ TEST_CASE("hostile: cost caps before any work: Draco claims are checked before d
   CHECK(seamd.rss_kib() < rss_before + 64 * 1024);
   check_alive(seamd);
 }
+
+}  // namespace seam_hostile_test

@@ -3,6 +3,8 @@
 
 #include "server/http_head.h"
 
+namespace seam_http_head_test {
+
 using seam::api::ApiErrorCode;
 using seam::server::find_head_end;
 using seam::server::HeadLimits;
@@ -134,3 +136,5 @@ TEST_CASE("http_head: a field line is counted as the library reads it, and the t
   CHECK(code_of("GET * HTTP/1.1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
   CHECK(parse_request_head("OPTIONS * HTTP/1.1\r\n\r\n", {}).ok());
 }
+
+}  // namespace seam_http_head_test

@@ -3,6 +3,8 @@
 
 #include <doctest/doctest.h>
 
+namespace seam_metrics_test {
+
 TEST_CASE("metrics render cumulative histograms and labelled counters") {
   seam::server::Metrics m;
   m.record("/seam", 200, 0.003, 100, 2000);
@@ -33,3 +35,5 @@ TEST_CASE("metrics render cumulative histograms and labelled counters") {
     CHECK(text.compare(pos, 6, "seamd_") == 0);
   }
 }
+
+}  // namespace seam_metrics_test

@@ -9,6 +9,8 @@
 
 #include "seamd_process.h"
 
+namespace seam_nginx_front_test {
+
 using namespace seam::test_process;
 using namespace std::chrono_literals;
 
@@ -112,3 +114,5 @@ TEST_CASE("nginx front (docker/nginx.conf): slow clients stay in nginx, honest r
   CHECK(status_of(ranged) == 200);
   CHECK(body_of(ranged) == body_of(seamd.get("/version")));
 }
+
+}  // namespace seam_nginx_front_test

@@ -19,6 +19,8 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+namespace seam_process_test {
+
 using namespace seam::test_process;
 
 namespace {
@@ -193,3 +195,5 @@ TEST_CASE("seamd seam executed again for a large input still reads --params from
   CHECK(std::filesystem::file_size(out) > 0);
   std::filesystem::remove_all(dir);
 }
+
+}  // namespace seam_process_test

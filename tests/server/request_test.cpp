@@ -4,6 +4,8 @@
 
 #include <doctest/doctest.h>
 
+namespace seam_request_test {
+
 using seam::api::ApiErrorCode;
 using seam::api::AssetKind;
 using namespace seam::server;
@@ -103,3 +105,5 @@ TEST_CASE("JSON nested 100,000 deep is a 400 in every request entry point, and d
   const std::string params_65 = R"({"extrema":)" + std::string(64, '[') + std::string(64, ']') + "}";
   CHECK(parse_params_part(params_65).error().code == ApiErrorCode::kMalformedRequest);
 }
+
+}  // namespace seam_request_test

@@ -16,6 +16,8 @@
 
 #include "server_harness.h"
 
+namespace seam_seam_http_test {
+
 namespace {
 
 using namespace std::chrono_literals;
@@ -287,3 +289,5 @@ TEST_CASE("POST /seam: a budget too small for the job is a 504, promptly") {
   CHECK(error_code_of(r->body) == "timeout");
   CHECK(std::chrono::steady_clock::now() - t0 < 5s);
 }
+
+}  // namespace seam_seam_http_test

@@ -12,6 +12,8 @@
 #include "seamd_process.h"
 #include "server_harness.h"
 
+namespace seam_server_test {
+
 namespace {
 
 using namespace std::chrono_literals;
@@ -482,3 +484,5 @@ TEST_CASE("shutdown: work still running after the drain timeout is cancelled wit
   CHECK(r->status == 504);
   CHECK(r->body.find("drain") != std::string::npos);  // the message names the drain, not the budget
 }
+
+}  // namespace seam_server_test

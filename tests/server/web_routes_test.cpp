@@ -9,6 +9,8 @@
 
 #include "server_harness.h"
 
+namespace seam_web_routes_test {
+
 namespace {
 
 using seam::test_server::RunningServer;
@@ -144,3 +146,5 @@ TEST_CASE("web: Accept: image/svg+xml asks for the SVG UV layout") {
   REQUIRE(res);
   CHECK(res->get_header_value("Content-Type") == "application/json");
 }
+
+}  // namespace seam_web_routes_test

@@ -7,6 +7,8 @@
 #include <chrono>
 #include <future>
 
+namespace seam_worker_pool_test {
+
 using namespace std::chrono_literals;
 
 TEST_CASE("worker pool admits workers + queue tasks and refuses the rest at once") {
@@ -45,3 +47,5 @@ TEST_CASE("worker pool: a zero-length queue still uses idle workers, and a throw
   pool.shutdown();
   CHECK(ran == 1);
 }
+
+}  // namespace seam_worker_pool_test
