@@ -20,6 +20,7 @@ int run_batch(int argc, char** argv, std::istream& in, std::ostream& out, std::o
 
 namespace {
 
+using cli::with_usage_hint;
 using nlohmann::json;
 
 constexpr const char* kUsage = R"(usage:
@@ -79,14 +80,8 @@ found before any mesh work. Errors are the HTTP API's {"error": {"code", "messag
 "details"}} on stderr.
 )";
 
-// A usage mistake: the message says where the usage is.
-ApiError with_usage_hint(ApiError e) {
-  e.message += " (seamd seam --help shows the usage)";
-  return e;
-}
-
 int usage(std::ostream& err, const ApiError& error) {
-  return cli::fail(err, with_usage_hint(error), 2);
+  return cli::fail(err, with_usage_hint(error, "seam"), 2);
 }
 
 int print_version(std::ostream& out, const CliContext& context) {
@@ -132,16 +127,16 @@ int run_sample(int argc, char** argv, std::ostream& out, std::ostream& err, cons
 ApiResult<std::string> seam_input(cli::ParsedArgs& args) {
   if (args.positional.size() > 2) {
     return with_usage_hint(
-        cli::usage_error("out", "seam takes IN and at most one OUT; extra argument " + args.positional[2]));
+        cli::usage_error("out", "seam takes IN and at most one OUT; extra argument " + args.positional[2]), "seam");
   }
   if (!args.positional.empty()) {
-    if (auto e = cli::set_positional(args, "in", args.positional[0], "IN")) return with_usage_hint(*e);
+    if (auto e = cli::set_positional(args, "in", args.positional[0], "IN")) return with_usage_hint(*e, "seam");
   }
   if (args.positional.size() == 2) {
-    if (auto e = cli::set_positional(args, "out", args.positional[1], "OUT")) return with_usage_hint(*e);
+    if (auto e = cli::set_positional(args, "out", args.positional[1], "OUT")) return with_usage_hint(*e, "seam");
   }
   if (args.own.count("in") == 0) {
-    return with_usage_hint(cli::usage_error("in", "seam needs an input: seamd seam IN [OUT]"));
+    return with_usage_hint(cli::usage_error("in", "seam needs an input: seamd seam IN [OUT]"), "seam");
   }
   return args.own["in"];
 }
@@ -193,18 +188,18 @@ struct SeamJob {
 ApiResult<SeamJob> plan_seam(cli::ParsedArgs& args, const std::string& in_path, const CliContext& context,
                              std::istream& in) {
   if (in_path == "-" && args.own.count("params") != 0 && args.own["params"] == "@-") {
-    return with_usage_hint(cli::usage_error("params", "stdin cannot be both IN and --params @-"));
+    return with_usage_hint(cli::usage_error("params", "stdin cannot be both IN and --params @-"), "seam");
   }
   SeamJob job;
   job.in_path = in_path;
   json merged;
   auto params = cli::build_params(args, merged, in);
-  if (!params.ok()) return with_usage_hint(params.error());
+  if (!params.ok()) return with_usage_hint(params.error(), "seam");
   job.params = std::move(params).value();
   job.limits.threads = context.cores;
   if (args.own.count("threads") != 0) {
     auto threads = cli::positive_count("threads", args.own["threads"]);
-    if (!threads.ok()) return with_usage_hint(threads.error());
+    if (!threads.ok()) return with_usage_hint(threads.error(), "seam");
     job.limits.threads = *threads;
   }
 
@@ -215,12 +210,13 @@ ApiResult<SeamJob> plan_seam(cli::ParsedArgs& args, const std::string& in_path, 
   if (!merged.contains("output") || !target) job.params.output = OutputFormat::kGlb;
   if (target && target->to_stdout) {
     if (report && report->to_stdout) {
-      return with_usage_hint(cli::usage_error("report", "OUT and --report cannot both be stdout"));
+      return with_usage_hint(cli::usage_error("report", "OUT and --report cannot both be stdout"), "seam");
     }
     if (context.stdout_is_terminal && job.params.output == OutputFormat::kGlb) {
       return with_usage_hint(cli::usage_error("out",
                                               "refusing to write a binary GLB to a terminal; redirect stdout "
-                                              "or give an OUT file"));
+                                              "or give an OUT file"),
+                             "seam");
     }
   }
   return job;

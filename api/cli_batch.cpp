@@ -21,6 +21,7 @@
 namespace seam::api {
 namespace {
 
+using cli::with_usage_hint;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
@@ -100,12 +101,6 @@ JobResult run_job(const Job& job, const SeamParams& params, const PipelineLimits
   return r;
 }
 
-// A usage mistake: the message says where the usage is.
-ApiError with_usage_hint(ApiError e) {
-  e.message += " (seamd batch --help shows the usage)";
-  return e;
-}
-
 // What every job of the batch shares: the parameters, the output kind and the thread split.
 struct BatchPlan {
   json merged;  // the parameters as given, for the report
@@ -116,11 +111,12 @@ struct BatchPlan {
 };
 
 ApiResult<BatchPlan> plan_batch(cli::ParsedArgs& args, unsigned cores, std::istream& in) {
-  if (args.positional.empty()) return with_usage_hint(cli::usage_error("in", "batch needs files or folders"));
-  if (args.own.count("out_dir") == 0) return with_usage_hint(cli::usage_error("out_dir", "batch needs --out-dir DIR"));
+  if (args.positional.empty()) return with_usage_hint(cli::usage_error("in", "batch needs files or folders"), "batch");
+  if (args.own.count("out_dir") == 0)
+    return with_usage_hint(cli::usage_error("out_dir", "batch needs --out-dir DIR"), "batch");
   BatchPlan plan;
   auto params = cli::build_params(args, plan.merged, in);
-  if (!params.ok()) return with_usage_hint(params.error());
+  if (!params.ok()) return with_usage_hint(params.error(), "batch");
   plan.params = std::move(params).value();
   const bool json_output = plan.merged.contains("output") && plan.params.output == OutputFormat::kJson;
   if (!json_output) plan.params.output = OutputFormat::kGlb;
@@ -128,13 +124,13 @@ ApiResult<BatchPlan> plan_batch(cli::ParsedArgs& args, unsigned cores, std::istr
   plan.workers = cores;
   if (args.own.count("workers") != 0) {
     auto w = cli::positive_count("workers", args.own["workers"]);
-    if (!w.ok()) return with_usage_hint(w.error());
+    if (!w.ok()) return with_usage_hint(w.error(), "batch");
     plan.workers = *w;
   }
   plan.limits.threads = std::max(1u, cores / plan.workers);
   if (args.own.count("threads") != 0) {
     auto t = cli::positive_count("threads", args.own["threads"]);
-    if (!t.ok()) return with_usage_hint(t.error());
+    if (!t.ok()) return with_usage_hint(t.error(), "batch");
     plan.limits.threads = *t;
   }
   return plan;
@@ -191,7 +187,7 @@ ApiResult<FoundFiles> find_assets(const std::string& in, const fs::path& out_can
   if (ec) return cli::usage_error("in", "cannot list " + in + ": " + ec.message());
   std::sort(found.begin(), found.end());
   if (found.empty()) {
-    return with_usage_hint(cli::usage_error("in", in + " holds no .glb, .gltf, .drc, .obj or .off file"));
+    return with_usage_hint(cli::usage_error("in", in + " holds no .glb, .gltf, .drc, .obj or .off file"), "batch");
   }
   return found;
 }
@@ -211,9 +207,10 @@ ApiResult<std::vector<Job>> collect_jobs(const std::vector<std::string>& inputs,
       output.replace_extension(out_ext);
       const auto [it, fresh] = input_of_output.emplace(output.string(), file.string());
       if (!fresh) {
-        return with_usage_hint(cli::usage_error("in", file.string() + " and " + it->second +
-                                                          " would both be written to " + output.string() +
-                                                          "; rename one or run them separately"));
+        return with_usage_hint(
+            cli::usage_error("in", file.string() + " and " + it->second + " would both be written to " +
+                                       output.string() + "; rename one or run them separately"),
+            "batch");
       }
       jobs.push_back({file.string(), output.string(), shown.string()});
     }
@@ -303,7 +300,7 @@ int run_batch(int argc, char** argv, std::istream& in, std::ostream& out, std::o
   auto parsed = cli::parse_args(argc, argv,
                                 {{"--out-dir", "out_dir"}, {"--workers", "workers"}, {"--threads", "threads"},
                                  {"--report", "report"}, {"--params", "params"}});
-  if (!parsed.ok()) return cli::fail(err, with_usage_hint(parsed.error()), 2);
+  if (!parsed.ok()) return cli::fail(err, with_usage_hint(parsed.error(), "batch"), 2);
   cli::ParsedArgs& args = *parsed;
   if (args.help) {
     out << cli_usage();

@@ -154,6 +154,11 @@ int fail(std::ostream& err, const ApiError& error, int code) {
   return code;
 }
 
+ApiError with_usage_hint(ApiError error, std::string_view command) {
+  error.message += " (seamd " + std::string(command) + " --help shows the usage)";
+  return error;
+}
+
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

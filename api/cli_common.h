@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -93,6 +94,8 @@ std::optional<ApiError> write_output(const OutputTarget& target, const std::stri
 
 /// Prints the JSON error body on `err` and returns `code`.
 int fail(std::ostream& err, const ApiError& error, int code);
+/// A usage mistake of `seamd <command>`: the message gains where the usage is.
+ApiError with_usage_hint(ApiError error, std::string_view command);
 
 /// kInvalidParameter with details.parameter.
 ApiError usage_error(const std::string& parameter, std::string message);

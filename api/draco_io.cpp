@@ -19,8 +19,6 @@
 namespace seam::api {
 namespace {
 
-ApiError malformed(std::string message) { return make_api_error(ApiErrorCode::kMalformedAsset, std::move(message)); }
-
 int gltf_component_type(draco::DataType type) {
   switch (type) {
     case draco::DT_INT8: return 5120;
@@ -155,15 +153,15 @@ class BoundedMeshDecoder : public Base {
       const draco::PointAttribute* a = pc.attribute(i);
       if (a == nullptr) continue;
       if (a->num_components() < 1 || a->num_components() > 4) {
-        refusal_ = malformed("Draco attribute " + std::to_string(a->unique_id()) + " has " +
-                             std::to_string(a->num_components()) + " components (glTF allows 1 to 4)");
+        refusal_ = malformed_asset("Draco attribute " + std::to_string(a->unique_id()) + " has " +
+                                   std::to_string(a->num_components()) + " components (glTF allows 1 to 4)");
         return false;
       }
       // glTF has no boolean component type, and draco converts a stored bool by loading it as
       // a C++ bool: a byte other than 0 or 1 is undefined behaviour (found by gltf_fuzz).
       if (a->data_type() == draco::DT_BOOL || a->data_type() == draco::DT_INVALID) {
-        refusal_ = malformed("Draco attribute " + std::to_string(a->unique_id()) +
-                             " is of a data type glTF has no component type for (bool or invalid)");
+        refusal_ = malformed_asset("Draco attribute " + std::to_string(a->unique_id()) +
+                                   " is of a data type glTF has no component type for (bool or invalid)");
         return false;
       }
       bytes_per_point += static_cast<std::size_t>(a->num_components()) *
@@ -197,7 +195,7 @@ ApiResult<std::unique_ptr<draco::Mesh>> decode_bounded(draco::DecoderBuffer& buf
   }
   const draco::Status status = decoder.Decode(options, &buffer, mesh.get());
   if (decoder.refusal()) return *decoder.refusal();
-  if (!status.ok()) return malformed("Draco decode failed: " + status.error_msg_string());
+  if (!status.ok()) return malformed_asset("Draco decode failed: " + status.error_msg_string());
   return mesh;
 }
 
@@ -207,13 +205,14 @@ ApiResult<std::unique_ptr<draco::Mesh>> decode_mesh(draco::DecoderBuffer& buffer
   draco::DecoderBuffer header_buffer(buffer);
   draco::DracoHeader header;
   const draco::Status status = draco::PointCloudDecoder::DecodeHeader(&header_buffer, &header);
-  if (!status.ok()) return malformed("Draco: " + status.error_msg_string());
+  if (!status.ok()) return malformed_asset("Draco: " + status.error_msg_string());
   switch (header.encoder_method) {
     case draco::MESH_SEQUENTIAL_ENCODING:
       return decode_bounded<BoundedMeshDecoder<draco::MeshSequentialDecoder>>(buffer, limits, skip_transforms);
     case draco::MESH_EDGEBREAKER_ENCODING:
       return decode_bounded<BoundedMeshDecoder<draco::MeshEdgebreakerDecoder>>(buffer, limits, skip_transforms);
-    default: return malformed("Draco: unknown mesh encoding method " + std::to_string(header.encoder_method));
+    default:
+      return malformed_asset("Draco: unknown mesh encoding method " + std::to_string(header.encoder_method));
   }
 }
 
@@ -329,7 +328,7 @@ ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const Rea
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
-  if (!type.ok()) return malformed("Draco: " + type.status().error_msg_string());
+  if (!type.ok()) return malformed_asset("Draco: " + type.status().error_msg_string());
   if (type.value() != draco::TRIANGULAR_MESH) {
     return make_api_error(ApiErrorCode::kNoTrianglePrimitive, "the Draco data is a point cloud, not a triangle mesh");
   }
@@ -351,7 +350,8 @@ ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const Rea
     const auto& face = mesh->face(draco::FaceIndex(f));
     core::Triangle t{face[0].value(), face[1].value(), face[2].value()};
     for (auto v : t) {
-      if (v >= out.num_points) return malformed("Draco face " + std::to_string(f) + " names a point out of range");
+      if (v >= out.num_points)
+        return malformed_asset("Draco face " + std::to_string(f) + " names a point out of range");
     }
     out.triangles.push_back(t);
   }
@@ -359,8 +359,8 @@ ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const Rea
     const draco::PointAttribute* a = mesh->attribute(i);
     if (a == nullptr) continue;
     if (a->num_components() < 1 || a->num_components() > 4) {
-      return malformed("Draco attribute " + std::to_string(a->unique_id()) + " has " +
-                       std::to_string(a->num_components()) + " components");
+      return malformed_asset("Draco attribute " + std::to_string(a->unique_id()) + " has " +
+                             std::to_string(a->num_components()) + " components");
     }
     out.attributes.push_back(DracoAttributeInfo{a->unique_id(), semantic_name(a->attribute_type()),
                                                 a->num_components(), gltf_component_type(a->data_type()),
@@ -376,10 +376,11 @@ ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const Rea
 ApiResult<AttributeArray> read_draco_attribute(const DracoMesh& mesh, std::uint32_t unique_id, int component_type,
                                                int components, bool normalized, const std::string& name) {
   const draco::PointAttribute* a = mesh.mesh ? mesh.mesh->GetAttributeByUniqueId(unique_id) : nullptr;
-  if (a == nullptr) return malformed("Draco data has no attribute with id " + std::to_string(unique_id) + " for " + name);
+  if (a == nullptr)
+    return malformed_asset("Draco data has no attribute with id " + std::to_string(unique_id) + " for " + name);
   if (a->num_components() != components) {
-    return malformed("Draco attribute " + name + " has " + std::to_string(a->num_components()) +
-                     " components but its accessor declares " + std::to_string(components));
+    return malformed_asset("Draco attribute " + name + " has " + std::to_string(a->num_components()) +
+                           " components but its accessor declares " + std::to_string(components));
   }
   AttributeArray out;
   out.name = name;
@@ -399,7 +400,9 @@ ApiResult<AttributeArray> read_draco_attribute(const DracoMesh& mesh, std::uint3
     case 5126: ok = convert_all<float>(*a, mesh.num_points, components, out.data); break;
     default: break;
   }
-  if (!ok) return malformed("Draco attribute " + name + " cannot be read as componentType " + std::to_string(component_type));
+  if (!ok)
+    return malformed_asset("Draco attribute " + name + " cannot be read as componentType " +
+                           std::to_string(component_type));
   return out;
 }
 

@@ -74,6 +74,11 @@ inline ApiError make_api_error(ApiErrorCode code, std::string message,
   return ApiError{code, std::move(message), std::move(details)};
 }
 
+/// The asset readers' error: the bytes break the format (malformed_asset, HTTP 400).
+inline ApiError malformed_asset(std::string message) {
+  return make_api_error(ApiErrorCode::kMalformedAsset, std::move(message));
+}
+
 /// Either a value or an ApiError.
 template <class T>
 using ApiResult = core::Result<T, ApiError>;

@@ -22,8 +22,6 @@ constexpr std::uint32_t kChunkBin = 0x004E4942;
 constexpr std::uint64_t kMaxDeclared = std::uint64_t{1} << 53;
 constexpr std::uint64_t kMaxCount = std::uint64_t{1} << 32;
 
-ApiError malformed(std::string message) { return make_api_error(ApiErrorCode::kMalformedAsset, std::move(message)); }
-
 std::uint32_t read_u32(const char* p) {
   std::uint32_t v;
   std::memcpy(&v, p, 4);
@@ -36,16 +34,16 @@ ApiResult<std::optional<std::uint64_t>> get_uint(const json& obj, const char* ke
   const auto it = obj.find(key);
   if (it == obj.end()) return std::optional<std::uint64_t>();
   if (!it->is_number_unsigned() && !(it->is_number_integer() && it->get<std::int64_t>() >= 0)) {
-    return malformed(where + "." + key + " must be a non-negative integer");
+    return malformed_asset(where + "." + key + " must be a non-negative integer");
   }
   const std::uint64_t v = it->get<std::uint64_t>();
-  if (v >= kMaxDeclared) return malformed(where + "." + key + " is too large");
+  if (v >= kMaxDeclared) return malformed_asset(where + "." + key + " is too large");
   return std::optional<std::uint64_t>(v);
 }
 
 ApiResult<std::uint64_t> require_uint(const json& obj, const char* key, const std::string& where) {
   SEAM_TRY(auto v, get_uint(obj, key, where));
-  if (!v) return malformed(where + "." + key + " is required");
+  if (!v) return malformed_asset(where + "." + key + " is required");
   return *v;
 }
 
@@ -89,14 +87,14 @@ std::string short_uri(const std::string& uri) { return uri.size() > 120 ? uri.su
 // data:[<mediatype>][;base64],<data>. Only base64 payloads: that is what glTF exporters write.
 ApiResult<std::vector<std::uint8_t>> decode_data_uri(const std::string& uri, const std::string& where) {
   const auto comma = uri.find(',');
-  if (comma == std::string::npos) return malformed(where + ": data URI without ','");
+  if (comma == std::string::npos) return malformed_asset(where + ": data URI without ','");
   const std::string_view header(uri.data(), comma);
   if (header.size() < 7 || header.substr(header.size() - 7) != ";base64") {
-    return malformed(where + ": only base64 data URIs are supported");
+    return malformed_asset(where + ": only base64 data URIs are supported");
   }
   std::vector<std::uint8_t> out;
   auto decoded = decode_base64(std::string_view(uri).substr(comma + 1));
-  if (!decoded.ok()) return malformed(where + ": bad base64 in data URI: " + decoded.error().describe());
+  if (!decoded.ok()) return malformed_asset(where + ": bad base64 in data URI: " + decoded.error().describe());
   out.assign(decoded->begin(), decoded->end());
   return out;
 }
@@ -113,24 +111,25 @@ struct ViewRange {
 ApiResult<ViewRange> view_range(const GltfDocument& doc, std::uint64_t view_index, const std::string& where) {
   const json* views = array_member(doc.json, "bufferViews");
   if (views == nullptr || !views->is_array() || view_index >= views->size()) {
-    return malformed(where + " names bufferView " + std::to_string(view_index) + ", which does not exist");
+    return malformed_asset(where + " names bufferView " + std::to_string(view_index) + ", which does not exist");
   }
   const json& v = (*views)[view_index];
   const std::string vw = "bufferViews[" + std::to_string(view_index) + "]";
-  if (!v.is_object()) return malformed(vw + " is not an object");
+  if (!v.is_object()) return malformed_asset(vw + " is not an object");
   SEAM_TRY(const std::uint64_t buffer, require_uint(v, "buffer", vw));
   SEAM_TRY(const std::uint64_t length, require_uint(v, "byteLength", vw));
   SEAM_TRY(const auto offset, get_uint(v, "byteOffset", vw));
   SEAM_TRY(const auto stride, get_uint(v, "byteStride", vw));
-  if (buffer >= doc.buffers.size()) return malformed(vw + ".buffer " + std::to_string(buffer) + " does not exist");
+  if (buffer >= doc.buffers.size())
+    return malformed_asset(vw + ".buffer " + std::to_string(buffer) + " does not exist");
   const std::uint64_t off = offset.value_or(0);
   if (off + length > doc.buffers[buffer].size()) {
-    return malformed(vw + " (bytes " + std::to_string(off) + ".." + std::to_string(off + length) +
-                     ") runs past the end of buffer " + std::to_string(buffer) + " (" +
-                     std::to_string(doc.buffers[buffer].size()) + " bytes)");
+    return malformed_asset(vw + " (bytes " + std::to_string(off) + ".." + std::to_string(off + length) +
+                           ") runs past the end of buffer " + std::to_string(buffer) + " (" +
+                           std::to_string(doc.buffers[buffer].size()) + " bytes)");
   }
   if (stride && (*stride < 4 || *stride > 252 || *stride % 4 != 0)) {
-    return malformed(vw + ".byteStride must be a multiple of 4 in [4, 252]");
+    return malformed_asset(vw + ".byteStride must be a multiple of 4 in [4, 252]");
   }
   return ViewRange{buffer, off, length, stride.value_or(0)};
 }
@@ -159,16 +158,16 @@ ApiResult<AccessorInfo> accessor_format(const json& a, const std::string& where)
   SEAM_TRY(const std::uint64_t ct, require_uint(a, "componentType", where));
   info.component_type = static_cast<int>(std::min<std::uint64_t>(ct, 1u << 20));
   if (component_size_of(info.component_type) == 0) {
-    return malformed(where + ".componentType " + std::to_string(ct) + " is not a glTF component type");
+    return malformed_asset(where + ".componentType " + std::to_string(ct) + " is not a glTF component type");
   }
   const auto type_it = a.find("type");
-  if (type_it == a.end() || !type_it->is_string()) return malformed(where + ".type is required");
+  if (type_it == a.end() || !type_it->is_string()) return malformed_asset(where + ".type is required");
   info.type = type_it->get<std::string>();
   info.components = components_of(info.type);
-  if (info.components == 0) return malformed(where + ".type '" + short_uri(info.type) + "' is not a glTF type");
+  if (info.components == 0) return malformed_asset(where + ".type '" + short_uri(info.type) + "' is not a glTF type");
   const auto norm_it = a.find("normalized");
   if (norm_it != a.end()) {
-    if (!norm_it->is_boolean()) return malformed(where + ".normalized must be a boolean");
+    if (!norm_it->is_boolean()) return malformed_asset(where + ".normalized must be a boolean");
     info.normalized = norm_it->get<bool>();
   }
   return info;
@@ -180,7 +179,7 @@ ApiResult<ViewRange> sparse_part(const GltfDocument& doc, std::uint64_t view_ind
                                  std::uint64_t count, std::uint64_t entry_size, const std::string& where) {
   SEAM_TRY(ViewRange range, view_range(doc, view_index, where));
   const std::uint64_t needed = offset + count * entry_size;
-  if (needed > range.length) return malformed(where + " run past their bufferView");
+  if (needed > range.length) return malformed_asset(where + " run past their bufferView");
   range.offset += offset;
   range.length -= offset;
   return range;
@@ -190,20 +189,20 @@ ApiResult<ViewRange> sparse_part(const GltfDocument& doc, std::uint64_t view_ind
 ApiResult<AccessorInfo::Sparse> check_sparse(const GltfDocument& doc, const json& s, const std::string& where,
                                              std::uint64_t count, std::size_t elem) {
   const std::string sw = where + ".sparse";
-  if (!s.is_object()) return malformed(sw + " is not an object");
+  if (!s.is_object()) return malformed_asset(sw + " is not an object");
   SEAM_TRY(const std::uint64_t scount, require_uint(s, "count", sw));
-  if (scount == 0 || scount > count) return malformed(sw + ".count must be in [1, accessor count]");
+  if (scount == 0 || scount > count) return malformed_asset(sw + ".count must be in [1, accessor count]");
   const auto ii = s.find("indices");
   const auto vi = s.find("values");
   if (ii == s.end() || !ii->is_object() || vi == s.end() || !vi->is_object()) {
-    return malformed(sw + " needs indices and values objects");
+    return malformed_asset(sw + " needs indices and values objects");
   }
   AccessorInfo::Sparse sp;
   sp.count = scount;
   SEAM_TRY(const std::uint64_t iview, require_uint(*ii, "bufferView", sw + ".indices"));
   SEAM_TRY(const auto ioff, get_uint(*ii, "byteOffset", sw + ".indices"));
   SEAM_TRY(const std::uint64_t ict, require_uint(*ii, "componentType", sw + ".indices"));
-  if (ict != 5121 && ict != 5123 && ict != 5125) return malformed(sw + ".indices.componentType must be unsigned");
+  if (ict != 5121 && ict != 5123 && ict != 5125) return malformed_asset(sw + ".indices.componentType must be unsigned");
   sp.index_type = static_cast<int>(ict);
   SEAM_TRY(sp.indices,
            sparse_part(doc, iview, ioff.value_or(0), scount, component_size_of(sp.index_type), sw + ".indices"));
@@ -217,14 +216,15 @@ ApiResult<AccessorInfo::Sparse> check_sparse(const GltfDocument& doc, const json
 ApiResult<AccessorInfo> check_accessor(const GltfDocument& doc, std::uint64_t index) {
   const json* accessors = array_member(doc.json, "accessors");
   if (accessors == nullptr || !accessors->is_array() || index >= accessors->size()) {
-    return malformed("accessor " + std::to_string(index) + " does not exist");
+    return malformed_asset("accessor " + std::to_string(index) + " does not exist");
   }
   const json& a = (*accessors)[index];
   const std::string where = "accessors[" + std::to_string(index) + "]";
-  if (!a.is_object()) return malformed(where + " is not an object");
+  if (!a.is_object()) return malformed_asset(where + " is not an object");
   SEAM_TRY(AccessorInfo info, accessor_format(a, where));
   SEAM_TRY(const std::uint64_t count, require_uint(a, "count", where));
-  if (count == 0 || count >= kMaxCount) return malformed(where + ".count " + std::to_string(count) + " is out of range");
+  if (count == 0 || count >= kMaxCount)
+    return malformed_asset(where + ".count " + std::to_string(count) + " is out of range");
   info.count = count;
   const std::size_t csize = component_size_of(info.component_type);
   const std::size_t elem = csize * static_cast<std::size_t>(info.components);
@@ -235,16 +235,17 @@ ApiResult<AccessorInfo> check_accessor(const GltfDocument& doc, std::uint64_t in
     SEAM_TRY(const ViewRange view, view_range(doc, *view_index, where));
     info.view = view;
     info.stride = view.stride ? view.stride : elem;
-    if (info.byte_offset % csize != 0) return malformed(where + ".byteOffset is not a multiple of the component size");
+    if (info.byte_offset % csize != 0)
+      return malformed_asset(where + ".byteOffset is not a multiple of the component size");
     // The declared count must fit in the view: this is what refuses huge counts before any
     // allocation.
     const std::uint64_t needed = info.byte_offset + (count - 1) * info.stride + elem;
     if (needed > view.length) {
-      return malformed(where + " needs " + std::to_string(needed) + " bytes (count " + std::to_string(count) +
-                       ") but its bufferView has " + std::to_string(view.length));
+      return malformed_asset(where + " needs " + std::to_string(needed) + " bytes (count " + std::to_string(count) +
+                             ") but its bufferView has " + std::to_string(view.length));
     }
   } else if (byte_offset && *byte_offset != 0) {
-    return malformed(where + ".byteOffset without a bufferView");
+    return malformed_asset(where + ".byteOffset without a bufferView");
   }
   const auto sparse_it = a.find("sparse");
   if (sparse_it != a.end()) {
@@ -274,7 +275,8 @@ std::uint32_t read_index(const std::uint8_t* p, int component_type) {
 ApiResult<AttributeArray> read_accessor(const GltfDocument& doc, std::uint64_t index, const std::string& name,
                                         const ReadLimits& limits) {
   SEAM_TRY(const AccessorInfo info, check_accessor(doc, index));
-  if (info.components > 4) return malformed("accessor " + std::to_string(index) + " for " + name + " is a matrix");
+  if (info.components > 4)
+    return malformed_asset("accessor " + std::to_string(index) + " for " + name + " is a matrix");
   if (info.count > limits.max_vertices) {
     return make_api_error(ApiErrorCode::kMeshTooLarge, "accessor " + std::to_string(index) + " declares " +
                                                            std::to_string(info.count) + " elements, more than the limit of " +
@@ -302,8 +304,8 @@ ApiResult<AttributeArray> read_accessor(const GltfDocument& doc, std::uint64_t i
     for (std::size_t j = 0; j < sp.count; ++j) {
       const std::uint32_t target = read_index(idx + j * isize, sp.index_type);
       if (target >= info.count || static_cast<std::int64_t>(target) <= previous) {
-        return malformed("accessor " + std::to_string(index) + ": sparse index " + std::to_string(target) +
-                         " is out of range or not increasing");
+        return malformed_asset("accessor " + std::to_string(index) + ": sparse index " + std::to_string(target) +
+                               " is out of range or not increasing");
       }
       previous = target;
       std::memcpy(out.data.data() + static_cast<std::size_t>(target) * elem, val + j * elem, elem);
@@ -343,22 +345,22 @@ double component_as_double(const std::uint8_t* p, int component_type, bool norma
 }
 
 ApiResult<GltfDocument> parse_json_document(std::string_view text, const ReadLimits& limits) {
-  if (text.size() > limits.max_json_bytes) return malformed("the glTF JSON is larger than the limit");
+  if (text.size() > limits.max_json_bytes) return malformed_asset("the glTF JSON is larger than the limit");
   // The client's JSON: depth is checked while parsing (the writer dumps this document later).
   auto parsed = parse_json_limited(text);
-  if (!parsed.ok()) return malformed("the glTF JSON: " + parsed.error().message);
+  if (!parsed.ok()) return malformed_asset("the glTF JSON: " + parsed.error().message);
   GltfDocument doc;
   doc.json = std::move(parsed).value();
-  if (!doc.json.is_object()) return malformed("the glTF JSON is not an object");
+  if (!doc.json.is_object()) return malformed_asset("the glTF JSON is not an object");
   const auto asset = doc.json.find("asset");
-  if (asset == doc.json.end() || !asset->is_object()) return malformed("the glTF has no 'asset' object");
+  if (asset == doc.json.end() || !asset->is_object()) return malformed_asset("the glTF has no 'asset' object");
   const auto version = asset->find("version");
   if (version == asset->end() || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0) {
-    return malformed("asset.version must be \"2.0\" (only glTF 2 is supported)");
+    return malformed_asset("asset.version must be \"2.0\" (only glTF 2 is supported)");
   }
   for (const char* key : {"buffers", "bufferViews", "accessors", "meshes", "images", "nodes"}) {
     const auto it = doc.json.find(key);
-    if (it != doc.json.end() && !it->is_array()) return malformed(std::string("'") + key + "' must be an array");
+    if (it != doc.json.end() && !it->is_array()) return malformed_asset(std::string("'") + key + "' must be an array");
   }
   return doc;
 }
@@ -370,12 +372,12 @@ ApiResult<GltfDocument> resolve_buffers(GltfDocument doc, std::optional<std::str
   for (std::size_t i = 0; i < n; ++i) {
     const json& b = (*buffers)[i];
     const std::string where = "buffers[" + std::to_string(i) + "]";
-    if (!b.is_object()) return malformed(where + " is not an object");
+    if (!b.is_object()) return malformed_asset(where + " is not an object");
     SEAM_TRY(const std::uint64_t length, require_uint(b, "byteLength", where));
     const auto uri = b.find("uri");
     std::vector<std::uint8_t> data;
     if (uri != b.end()) {
-      if (!uri->is_string()) return malformed(where + ".uri must be a string");
+      if (!uri->is_string()) return malformed_asset(where + ".uri must be a string");
       const std::string u = uri->get<std::string>();
       if (!is_data_uri(u)) {
         return make_api_error(ApiErrorCode::kExternalUri,
@@ -388,11 +390,11 @@ ApiResult<GltfDocument> resolve_buffers(GltfDocument doc, std::optional<std::str
     } else if (i == 0 && bin) {
       data.assign(bin->begin(), bin->end());
     } else {
-      return malformed(where + " has no uri and is not the GLB binary chunk");
+      return malformed_asset(where + " has no uri and is not the GLB binary chunk");
     }
     if (data.size() < length) {
-      return malformed(where + ".byteLength is " + std::to_string(length) + " but only " + std::to_string(data.size()) +
-                       " bytes are present");
+      return malformed_asset(where + ".byteLength is " + std::to_string(length) + " but only " +
+                             std::to_string(data.size()) + " bytes are present");
     }
     data.resize(length);  // a GLB BIN chunk may carry up to 3 bytes of padding
     doc.buffers.push_back(std::move(data));
@@ -401,10 +403,10 @@ ApiResult<GltfDocument> resolve_buffers(GltfDocument doc, std::optional<std::str
   for (std::size_t i = 0; i < array_size(doc.json, "images"); ++i) {
     const json& im = (*images)[i];
     const std::string where = "images[" + std::to_string(i) + "]";
-    if (!im.is_object()) return malformed(where + " is not an object");
+    if (!im.is_object()) return malformed_asset(where + " is not an object");
     const auto uri = im.find("uri");
     if (uri != im.end()) {
-      if (!uri->is_string()) return malformed(where + ".uri must be a string");
+      if (!uri->is_string()) return malformed_asset(where + ".uri must be a string");
       const std::string u = uri->get<std::string>();
       if (!is_data_uri(u)) {
         return make_api_error(ApiErrorCode::kExternalUri,
@@ -432,20 +434,21 @@ ApiResult<GltfDocument> resolve_buffers(GltfDocument doc, std::optional<std::str
 }
 
 ApiResult<GltfDocument> parse_glb(std::string_view bytes, const ReadLimits& limits) {
-  if (bytes.size() < 20) return malformed("GLB shorter than its 12-byte header and first chunk header");
-  if (read_u32(bytes.data()) != kGlbMagic) return malformed("not a GLB: bad magic");
+  if (bytes.size() < 20) return malformed_asset("GLB shorter than its 12-byte header and first chunk header");
+  if (read_u32(bytes.data()) != kGlbMagic) return malformed_asset("not a GLB: bad magic");
   const std::uint32_t version = read_u32(bytes.data() + 4);
-  if (version != 2) return malformed("GLB version " + std::to_string(version) + " is not 2");
+  if (version != 2) return malformed_asset("GLB version " + std::to_string(version) + " is not 2");
   const std::uint32_t length = read_u32(bytes.data() + 8);
   if (length > bytes.size()) {
-    return malformed("GLB header declares " + std::to_string(length) + " bytes but " + std::to_string(bytes.size()) +
-                     " were received (truncated?)");
+    return malformed_asset("GLB header declares " + std::to_string(length) + " bytes but " +
+                           std::to_string(bytes.size()) + " were received (truncated?)");
   }
-  if (length < 20) return malformed("GLB header length is too small");
+  if (length < 20) return malformed_asset("GLB header length is too small");
   bytes = bytes.substr(0, length);
   const std::uint64_t json_length = read_u32(bytes.data() + 12);
-  if (read_u32(bytes.data() + 16) != kChunkJson) return malformed("the first GLB chunk is not JSON");
-  if (20 + json_length > bytes.size()) return malformed("the GLB JSON chunk length runs past the end of the file");
+  if (read_u32(bytes.data() + 16) != kChunkJson) return malformed_asset("the first GLB chunk is not JSON");
+  if (20 + json_length > bytes.size())
+    return malformed_asset("the GLB JSON chunk length runs past the end of the file");
   // The spec pads the JSON chunk with spaces; some exporters pad with NULs. Accept both.
   std::string_view json_text = bytes.substr(20, json_length);
   while (!json_text.empty() && (json_text.back() == '\0' || json_text.back() == ' ')) json_text.remove_suffix(1);
@@ -455,10 +458,11 @@ ApiResult<GltfDocument> parse_glb(std::string_view bytes, const ReadLimits& limi
   if (pos + 8 <= bytes.size()) {
     const std::uint64_t bin_length = read_u32(bytes.data() + pos);
     const std::uint32_t type = read_u32(bytes.data() + pos + 4);
-    if (pos + 8 + bin_length > bytes.size()) return malformed("the GLB BIN chunk length runs past the end of the file");
+    if (pos + 8 + bin_length > bytes.size())
+      return malformed_asset("the GLB BIN chunk length runs past the end of the file");
     if (type == kChunkBin) bin = bytes.substr(pos + 8, bin_length);
   } else if (pos != bytes.size()) {
-    return malformed("trailing bytes after the GLB JSON chunk");
+    return malformed_asset("trailing bytes after the GLB JSON chunk");
   }
   doc.kind = AssetKind::kGlb;
   return resolve_buffers(std::move(doc), bin);
@@ -495,7 +499,7 @@ ApiResult<GltfDocument> parse_raw_draco(std::string_view bytes, const ReadLimits
     // Draco dequantizes on decode anyway.
     accessors.push_back({{"componentType", 5126}, {"count", dm.num_points}, {"type", kTypes[a.components]}});
   }
-  if (!has_position) return malformed("the Draco mesh has no 3-component POSITION attribute");
+  if (!has_position) return malformed_asset("the Draco mesh has no 3-component POSITION attribute");
   const std::size_t indices = accessors.size();
   accessors.push_back({{"componentType", 5125}, {"count", dm.triangles.size() * 3}, {"type", "SCALAR"}});
   GltfDocument doc;
@@ -550,7 +554,7 @@ ApiResult<GltfDocument> parse_asset(std::string_view bytes, AssetKind kind, cons
     }
     case AssetKind::kAuto: break;
   }
-  return malformed("unknown asset kind");
+  return malformed_asset("unknown asset kind");
 }
 
 namespace {
@@ -573,9 +577,9 @@ ApiResult<PrimitiveRef> locate_primitive(const GltfDocument& doc, std::uint32_t 
   }
   const json& mesh = (*meshes)[mesh_index];
   const std::string mw = "meshes[" + std::to_string(mesh_index) + "]";
-  if (!mesh.is_object()) return malformed(mw + " is not an object");
+  if (!mesh.is_object()) return malformed_asset(mw + " is not an object");
   const auto prims = mesh.find("primitives");
-  if (prims == mesh.end() || !prims->is_array()) return malformed(mw + ".primitives must be an array");
+  if (prims == mesh.end() || !prims->is_array()) return malformed_asset(mw + ".primitives must be an array");
   if (primitive_index >= prims->size()) {
     return make_api_error(ApiErrorCode::kNoTrianglePrimitive,
                           "primitive " + std::to_string(primitive_index) + " of mesh " + std::to_string(mesh_index) +
@@ -584,7 +588,7 @@ ApiResult<PrimitiveRef> locate_primitive(const GltfDocument& doc, std::uint32_t 
   }
   const json& prim = (*prims)[primitive_index];
   PrimitiveRef out{&prim, mw + ".primitives[" + std::to_string(primitive_index) + "]"};
-  if (!prim.is_object()) return malformed(out.where + " is not an object");
+  if (!prim.is_object()) return malformed_asset(out.where + " is not an object");
   return out;
 }
 
@@ -592,7 +596,7 @@ ApiResult<PrimitiveRef> locate_primitive(const GltfDocument& doc, std::uint32_t 
 ApiResult<int> surface_mode(const json& prim, const std::string& pw) {
   SEAM_TRY(const auto mode, get_uint(prim, "mode", pw));
   const int m = static_cast<int>(mode.value_or(4));
-  if (mode && *mode > 6) return malformed(pw + ".mode " + std::to_string(*mode) + " is not a glTF mode");
+  if (mode && *mode > 6) return malformed_asset(pw + ".mode " + std::to_string(*mode) + " is not a glTF mode");
   if (m <= 3) {
     static constexpr const char* kNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
     return make_api_error(ApiErrorCode::kUnsupportedPrimitiveMode,
@@ -601,7 +605,7 @@ ApiResult<int> surface_mode(const json& prim, const std::string& pw) {
                           {{"mode", m}});
   }
   const auto attrs = prim.find("attributes");
-  if (attrs == prim.end() || !attrs->is_object()) return malformed(pw + ".attributes must be an object");
+  if (attrs == prim.end() || !attrs->is_object()) return malformed_asset(pw + ".attributes must be an object");
   if (!attrs->contains("POSITION")) {
     return make_api_error(ApiErrorCode::kNoTrianglePrimitive, pw + " has no POSITION attribute");
   }
@@ -623,12 +627,12 @@ ApiResult<DracoPart> read_draco_part(const GltfDocument& doc, const json& prim, 
   const auto d = exts->find("KHR_draco_mesh_compression");
   if (d == exts->end()) return out;
   const std::string dw = pw + ".extensions.KHR_draco_mesh_compression";
-  if (!d->is_object()) return malformed(dw + " is not an object");
+  if (!d->is_object()) return malformed_asset(dw + " is not an object");
   out.ext = &*d;
   SEAM_TRY(const std::uint64_t view_index, require_uint(*d, "bufferView", dw));
   SEAM_TRY(const ViewRange view, view_range(doc, view_index, dw));
   const auto ea = d->find("attributes");
-  if (ea == d->end() || !ea->is_object()) return malformed(dw + ".attributes must be an object");
+  if (ea == d->end() || !ea->is_object()) return malformed_asset(dw + ".attributes must be an object");
   SEAM_TRY(DracoMesh decoded, decode_draco(std::span(doc.buffers[view.buffer].data() + view.offset, view.length), limits, true));
   out.mesh = std::move(decoded);
   return out;
@@ -638,14 +642,14 @@ ApiResult<DracoPart> read_draco_part(const GltfDocument& doc, const json& prim, 
 // else from its accessor.
 ApiStatus read_attribute(const GltfDocument& doc, const DracoPart& draco, const std::string& name, const json& ref,
                       const std::string& pw, const ReadLimits& limits, PrimitiveData& out) {
-  if (!is_index(ref)) return malformed(pw + ".attributes." + name + " must be an accessor index");
+  if (!is_index(ref)) return malformed_asset(pw + ".attributes." + name + " must be an accessor index");
   const std::uint64_t acc = ref.get<std::uint64_t>();
   std::optional<std::uint64_t> uid;
   if (draco.ext != nullptr) {
     const json& ea = (*draco.ext)["attributes"];
     if (const auto u = ea.find(name); u != ea.end()) {
       if (!is_index(*u) || u->get<std::uint64_t>() > 0xffffffffu) {
-        return malformed(pw + ": Draco attribute id for " + name + " must be an unsigned integer");
+        return malformed_asset(pw + ": Draco attribute id for " + name + " must be an unsigned integer");
       }
       uid = u->get<std::uint64_t>();
     }
@@ -657,10 +661,10 @@ ApiStatus read_attribute(const GltfDocument& doc, const DracoPart& draco, const 
   }
   SEAM_TRY(const AccessorInfo info, check_accessor(doc, acc));
   if (info.count != draco.mesh->num_points) {
-    return malformed(pw + ".attributes." + name + " declares " + std::to_string(info.count) +
-                     " vertices but the Draco data has " + std::to_string(draco.mesh->num_points));
+    return malformed_asset(pw + ".attributes." + name + " declares " + std::to_string(info.count) +
+                           " vertices but the Draco data has " + std::to_string(draco.mesh->num_points));
   }
-  if (info.components > 4) return malformed(pw + ".attributes." + name + " is a matrix");
+  if (info.components > 4) return malformed_asset(pw + ".attributes." + name + " is a matrix");
   SEAM_TRY(AttributeArray a, read_draco_attribute(*draco.mesh, static_cast<std::uint32_t>(*uid), info.component_type,
                                                   info.components, info.normalized, name));
   a.type = info.type;
@@ -679,12 +683,12 @@ ApiStatus read_positions(const std::string& pw, PrimitiveData& out) {
   const auto pos_it = std::find_if(out.attributes.begin(), out.attributes.end(),
                                    [](const AttributeArray& a) { return a.name == "POSITION"; });
   const AttributeArray& pos = *pos_it;
-  if (pos.components != 3) return malformed(pw + ": POSITION must be VEC3");
+  if (pos.components != 3) return malformed_asset(pw + ": POSITION must be VEC3");
   const std::size_t n = pos.count;
   for (const auto& a : out.attributes) {
     if (a.count != n) {
-      return malformed(pw + ": attribute " + a.name + " has " + std::to_string(a.count) + " elements but POSITION has " +
-                       std::to_string(n));
+      return malformed_asset(pw + ": attribute " + a.name + " has " + std::to_string(a.count) +
+                             " elements but POSITION has " + std::to_string(n));
     }
   }
   out.mesh.positions.resize(n);
@@ -709,16 +713,17 @@ ApiStatus read_targets(const GltfDocument& doc, const json& prim, const std::str
                     PrimitiveData& out) {
   const auto targets = prim.find("targets");
   if (targets == prim.end()) return core::Ok{};
-  if (!targets->is_array()) return malformed(pw + ".targets must be an array");
+  if (!targets->is_array()) return malformed_asset(pw + ".targets must be an array");
   const std::size_t n = out.mesh.positions.size();
   for (std::size_t t = 0; t < targets->size(); ++t) {
     const json& target = (*targets)[t];
-    if (!target.is_object()) return malformed(pw + ".targets[" + std::to_string(t) + "] is not an object");
+    if (!target.is_object()) return malformed_asset(pw + ".targets[" + std::to_string(t) + "] is not an object");
     std::vector<AttributeArray> arrays;
     for (auto it = target.begin(); it != target.end(); ++it) {
-      if (!is_index(*it)) return malformed(pw + ".targets: " + it.key() + " must be an accessor index");
+      if (!is_index(*it)) return malformed_asset(pw + ".targets: " + it.key() + " must be an accessor index");
       SEAM_TRY(AttributeArray a, read_accessor(doc, it->get<std::uint64_t>(), it.key(), limits));
-      if (a.count != n) return malformed(pw + ".targets[" + std::to_string(t) + "]." + it.key() + " has the wrong count");
+      if (a.count != n)
+        return malformed_asset(pw + ".targets[" + std::to_string(t) + "]." + it.key() + " has the wrong count");
       arrays.push_back(std::move(a));
     }
     out.targets.push_back(std::move(arrays));
@@ -735,7 +740,7 @@ ApiResult<std::vector<std::uint32_t>> read_indices(const GltfDocument& doc, cons
     SEAM_TRY(const AttributeArray ia, read_accessor(doc, *idx, "indices", limits));
     if (ia.components != 1 || ia.normalized ||
         (ia.component_type != 5121 && ia.component_type != 5123 && ia.component_type != 5125)) {
-      return malformed(pw + ".indices must be an unsigned SCALAR accessor (u8, u16 or u32)");
+      return malformed_asset(pw + ".indices must be an unsigned SCALAR accessor (u8, u16 or u32)");
     }
     indices.resize(ia.count);
     for (std::size_t i = 0; i < ia.count; ++i) indices[i] = read_index(ia.data.data() + i * ia.component_size(), ia.component_type);
@@ -766,7 +771,8 @@ ApiResult<std::vector<core::Triangle>> assemble_triangles(const std::vector<std:
   std::vector<core::Triangle> out;
   out.reserve(faces);
   if (mode == 4) {
-    if (m % 3 != 0) return malformed(pw + ": TRIANGLES with " + std::to_string(m) + " indices (not a multiple of 3)");
+    if (m % 3 != 0)
+      return malformed_asset(pw + ": TRIANGLES with " + std::to_string(m) + " indices (not a multiple of 3)");
     for (std::size_t i = 0; i + 2 < m; i += 3) out.push_back({indices[i], indices[i + 1], indices[i + 2]});
     return out;
   }
@@ -802,13 +808,13 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
   if (auto r = read_positions(pw, out); !r.ok()) return r.take_error();
   if (auto r = read_targets(doc, prim, pw, limits, out); !r.ok()) return r.take_error();
   if (draco.mesh) {
-    if (out.mode != 4) return malformed(pw + ": a Draco primitive must have mode TRIANGLES");
+    if (out.mode != 4) return malformed_asset(pw + ": a Draco primitive must have mode TRIANGLES");
     // The triangles index the Draco mesh's points, so every attribute has to have that many,
     // also those the extension does not name (read from their accessors).
     if (out.mesh.positions.size() != draco.mesh->num_points) {
-      return malformed(pw + ": POSITION has " + std::to_string(out.mesh.positions.size()) +
-                       " vertices but the Draco data has " + std::to_string(draco.mesh->num_points) +
-                       " (an attribute the extension does not name still needs the Draco mesh's vertex count)");
+      return malformed_asset(pw + ": POSITION has " + std::to_string(out.mesh.positions.size()) +
+                             " vertices but the Draco data has " + std::to_string(draco.mesh->num_points) +
+                             " (an attribute the extension does not name still needs the Draco mesh's vertex count)");
     }
     out.mesh.triangles = draco.mesh->triangles;
   } else {

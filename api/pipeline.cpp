@@ -15,6 +15,7 @@
 #include "api/pack_step.h"
 #include "api/primitive_job.h"
 #include "api/svg.h"
+#include "core/timing.h"
 
 namespace seam::api {
 namespace {
@@ -22,7 +23,7 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+using core::ms_since;
 
 // One primitive to process and the extrema it uses.
 struct Selected {

@@ -14,6 +14,7 @@
 #include "core/mesh/cut.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/topology.h"
+#include "core/timing.h"
 #include "core/visibility/visibility.h"
 
 namespace seam::api {
@@ -22,7 +23,7 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+using core::ms_since;
 
 ApiError timeout(const char* stage) {
   return make_api_error(ApiErrorCode::kTimeout, std::string("the computation exceeded the time budget during ") + stage);

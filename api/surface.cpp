@@ -10,6 +10,7 @@
 #include "core/mesh/split_pinched.h"
 #include "core/mesh/vertex_order.h"
 #include "core/mesh/weld.h"
+#include "core/timing.h"
 
 namespace seam::api {
 namespace {
@@ -17,7 +18,7 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+using core::ms_since;
 
 // The welded soup numbered as Canonical describes.
 Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Triangle>& input_triangles) {

@@ -1,10 +1,12 @@
 #include "core/atlas/features.h"
 
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
+
+#include "core/timing.h"
 
 namespace seam::core {
 
@@ -71,7 +73,7 @@ std::size_t prune_dangling(const HalfedgeMesh& mesh, std::vector<char>& feature,
 
 Result<FeatureEdges> find_feature_edges(const HalfedgeMesh& mesh, const FeatureOptions& options,
                                         const CancelToken& cancel) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = StageClock::now();
   if (!(options.feature_angle_deg >= 0 && options.feature_angle_deg <= 180)) {
     return make_error(ErrorCode::kInvalidArgument,
                       "feature_angle_deg must be in 0..180, got " + std::to_string(options.feature_angle_deg));
@@ -106,7 +108,7 @@ Result<FeatureEdges> find_feature_edges(const HalfedgeMesh& mesh, const FeatureO
   for (std::size_t i = 0; i < feature.size(); ++i) {
     if (feature[i]) out.edges.push_back(EdgeId(i));
   }
-  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  out.ms = ms_since(start);
   return out;
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/atlas/predicates.h"
 #include "core/mesh/topology.h"
+#include "core/timing.h"
 
 namespace seam::core {
 
@@ -319,7 +320,7 @@ double triangle_intersection_area(const Tri& a, const Tri& b) {
 
 Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Triangle> triangles,
                                     std::span<const std::uint32_t> triangle_chart, const CancelToken& cancel) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = StageClock::now();
   if (!triangle_chart.empty() && triangle_chart.size() != triangles.size()) {
     return make_error(ErrorCode::kInvalidArgument, "find_overlaps: triangle_chart has " +
                                                        std::to_string(triangle_chart.size()) + " entries for " +
@@ -365,7 +366,7 @@ Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Tr
   if (cancel.is_cancelled()) return cancelled_error("find_overlaps");
   if ((turn == 1 || turn == -1) && injective_by_boundary(uv, triangles, turn)) {
     result.proven_by_boundary = true;
-    result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    result.ms = ms_since(start);
     return result;
   }
   const Grid g = build_grid(boxes, live);
@@ -392,7 +393,7 @@ Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Tr
   });
   if (!finished) return cancelled_error("find_overlaps");
   result.overlap_fraction = result.uv_area > 0 ? result.overlap_area / result.uv_area : 0.0;
-  result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  result.ms = ms_since(start);
   return result;
 }
 

@@ -1,8 +1,5 @@
 #include "core/atlas/pack.h"
 
-#include "core/atlas/profile_pack.h"
-#include "core/atlas/raster_pack.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,6 +7,10 @@
 #include <numbers>
 #include <numeric>
 #include <string>
+
+#include "core/atlas/profile_pack.h"
+#include "core/atlas/raster_pack.h"
+#include "core/timing.h"
 
 namespace seam::core {
 
@@ -553,7 +554,7 @@ PackResult placements_of(std::span<const PackChart> charts, const Prepared& prep
 }  // namespace
 
 Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options, const CancelToken& cancel) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = StageClock::now();
   if (Status valid = validate(charts, options); !valid.ok()) return valid.take_error();
   if (charts.empty()) return PackResult{};
   SEAM_TRY(const Prepared prepared, prepare(charts, options.rotate, cancel));
@@ -566,7 +567,7 @@ Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOpti
   if (cancel.is_cancelled()) return cancelled_error("pack");
   try_raster_layout(charts, prepared, margin_fraction, options.rotate, layout);
   PackResult result = placements_of(charts, prepared, layout, options.texture_size);
-  result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  result.ms = ms_since(start);
   return result;
 }
 

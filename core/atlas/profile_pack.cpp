@@ -8,8 +8,6 @@ namespace seam::core::detail {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // y-range of segment [a, b] within the vertical slab x0 <= x <= x1; false if it misses it.
 bool segment_in_slab(const Vec2& a, const Vec2& b, double x0, double x1, double& lo, double& hi) {
   double t0 = 0;

@@ -14,7 +14,6 @@ namespace seam::core {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kLines = 48;  // candidate cut lines per axis; those at 1/8..7/8 are tried
 constexpr std::size_t kCandidates = 16;  // cuts of the best scores tried; the best fill wins
 

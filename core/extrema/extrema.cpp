@@ -10,14 +10,14 @@
 #include <thread>
 #include <utility>
 
-#include "core/paths/geodesic.h"
-#include "core/paths/dijkstra_kernel.h"
 #include "core/mesh/topology.h"
+#include "core/paths/dijkstra_kernel.h"
+#include "core/paths/geodesic.h"
+#include "core/timing.h"
 
 namespace seam::core {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::uint32_t kNone = VertexId::kInvalidValue;
 
 struct Component {
@@ -578,17 +578,16 @@ Result<std::vector<Peak>> separated(const EdgeGraph& graph, const Component& com
 
 Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const ExtremaOptions& options,
                                      const CancelToken& cancel) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = StageClock::now();
   const Topology topology = compute_topology(mesh);
   SEAM_TRY(ExtremaResult result, detect_extrema(mesh, topology, options, cancel));
-  result.stats.milliseconds =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  result.stats.milliseconds = ms_since(start);
   return result;
 }
 
 Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const Topology& topo, const ExtremaOptions& options,
                                      const CancelToken& cancel) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = StageClock::now();
   if (auto st = validate(options); !st.ok()) return st.take_error();
   if (auto own = check_topology_of(mesh, topo); !own.ok()) return own.take_error();
 
@@ -635,8 +634,7 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const Topology& t
       result.extrema.push_back(e);
     }
   }
-  result.stats.milliseconds =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  result.stats.milliseconds = ms_since(start);
   return result;
 }
 

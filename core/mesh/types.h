@@ -16,6 +16,9 @@ namespace seam::core {
 using Vec3 = Eigen::Vector3d;
 using Vec2 = Eigen::Vector2d;
 
+/// "No path", "not reached", "no bound yet": lengths and distances start here.
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
 /// A typed index into one kind of mesh element. The all-ones value means "none".
 /// Distinct tags make passing a FaceId where a VertexId is expected a compile error.
 template <class Tag>

@@ -17,7 +17,6 @@ namespace seam::core {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::uint32_t kNone = 0xffffffffu;
 constexpr std::uint32_t kMerge = 0x80000000u;
 

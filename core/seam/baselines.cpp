@@ -16,8 +16,6 @@ namespace seam::core {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // The Dreyfus–Wagner table is 2^(k-1) rows of V doubles plus back-pointers; above this it is
 // refused rather than risking the process (many requests share one machine).
 constexpr std::size_t kMaxOptimalTableBytes = std::size_t{512} << 20;

@@ -32,16 +32,17 @@
 #include <cmath>
 #include <string>
 
-#include "core/seam/baselines.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/cut_check.h"
-#include "core/seam/cut_graph.h"
-#include "core/paths/forest.h"
-#include "core/paths/geodesic.h"
-#include "core/seam/skeleton.h"
-#include "core/paths/steiner.h"
 #include "core/mesh/submesh.h"
 #include "core/mesh/topology.h"
+#include "core/paths/forest.h"
+#include "core/paths/geodesic.h"
+#include "core/paths/steiner.h"
+#include "core/seam/baselines.h"
+#include "core/seam/cut_graph.h"
+#include "core/seam/skeleton.h"
+#include "core/timing.h"
 
 namespace seam::core {
 
@@ -62,10 +63,6 @@ const char* seam_method_name(SeamMethod method) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 struct ComponentSeam {
   bool exact = true;                    // the tree is a minimum one for its terminals

@@ -11,14 +11,11 @@
 #include "core/seam/refine.h"
 #include "core/seam/skeleton_trace.h"
 #include "core/seam/straighten.h"
+#include "core/timing.h"
 
 namespace seam::core {
 
 namespace {
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 Status validate_inputs(const HalfedgeMesh& mesh, const TerminalPaths& paths) {
   const std::size_t k = paths.size();
@@ -61,7 +58,7 @@ Result<StartTree> refine_then_improve(const SearchSurface& surface, std::span<co
                                       SkeletonResult& result, const Improve& improve, const CancelToken& cancel) {
   StartTree out{std::move(edges), 0.0};
   if (options.refine) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = StageClock::now();
     SEAM_TRY(RefineResult refined, refine_tree(surface, terminals, out.edges, {}, cancel));
     out.edges = std::move(refined.edges);
     out.length = refined.stats.length_after;
@@ -112,7 +109,7 @@ Result<SkeletonResult> finish(const SearchSurface& surface, std::span<const Vert
                               std::vector<EdgeId> final_edges, const SkeletonOptions& options, SkeletonTrace& tr,
                               SkeletonResult& result, const CancelToken& cancel) {
   const Improve improve = [&](std::span<const EdgeId> edges, double& ms) -> Result<ImproveResult> {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = StageClock::now();
     auto improved = improve_tree(surface, terminals, edges, {}, cancel);
     ms += ms_since(start);
     return improved;
@@ -185,7 +182,7 @@ Result<SkeletonResult> skeleton_seam_traced(const SearchSurface& surface, const 
   // The paper's three steps. Any failure other than cancellation (a degenerate mesh where
   // the tour or its skeleton cannot be made a full component) falls back to the star tree.
   auto paper = [&]() -> Result<TreeTopology> {
-    auto start = std::chrono::steady_clock::now();
+    auto start = StageClock::now();
     SEAM_TRY(TourResult tour, build_tour(mesh, paths, cancel));
     tr.tour = std::move(tour.tour);
     tr.tour_stats = tour.stats;
@@ -193,12 +190,12 @@ Result<SkeletonResult> skeleton_seam_traced(const SearchSurface& surface, const 
     result.stats.removals = tr.tour_stats.removals;
     result.stats.rejected_removals = tr.tour_stats.rejected_removals;
 
-    start = std::chrono::steady_clock::now();
+    start = StageClock::now();
     SEAM_TRY(auto shrunk, shrink_tour(mesh, tr.tour, cancel));
     tr.raw_skeleton = std::move(shrunk.skeleton);
     result.stats.shrink_ms = ms_since(start);
 
-    start = std::chrono::steady_clock::now();
+    start = StageClock::now();
     SEAM_TRY(auto topo, skeleton_topology(surface, tr.raw_skeleton, terminals, cancel));
     SEAM_TRY(StraightenResult straight, straighten_topology(surface, topo, cancel));
     tr.straighten_stats = straight.stats;
@@ -216,7 +213,7 @@ Result<SkeletonResult> skeleton_seam_traced(const SearchSurface& surface, const 
     tr.fallback = true;
     tr.fallback_reason = straight.error().message;
     result.stats.fallback = true;
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = StageClock::now();
     SEAM_TRY(auto edges, star_tree(surface, terminals, cancel));
     result.stats.straighten_ms += ms_since(start);
     tr.straightened_length = make_steiner_tree(surface, edges, terminals).length;

@@ -133,7 +133,6 @@ class VisitRemoval {
     }
     SEAM_ASSERT(!candidates.empty());
     std::sort(candidates.begin(), candidates.end());
-    constexpr double kInf = std::numeric_limits<double>::infinity();
     std::size_t best = n;
     double best_priority = kInf;
     for (const Candidate& c : candidates) {

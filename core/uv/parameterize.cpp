@@ -10,6 +10,7 @@
 
 #include "core/atlas/overlap.h"
 #include "core/mesh/topology.h"
+#include "core/timing.h"
 #include "core/uv/arap.h"
 #include "core/uv/bff.h"
 #include "core/uv/collision.h"
@@ -246,7 +247,7 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const Topology& top
   UvResult result;
   result.method_used = options.method;
   result.charts = patches.size();
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = StageClock::now();
   std::vector<Chart> charts;
   charts.reserve(patches.size());
   for (const DiscPatch& patch : patches) {
@@ -255,7 +256,7 @@ Result<UvResult> parameterize(const HalfedgeMesh& disc_mesh, const Topology& top
     if (count_flipped(patch, uv) > 0 || !boundary_is_simple(patch, uv)) ++result.charts_not_injective;
     charts.push_back(normalise_chart(patch, std::move(uv)));
   }
-  result.solve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  result.solve_ms = ms_since(start);
   if (Status done = finish_atlas(disc_mesh, patches, std::move(charts), options.chart_gap, result, cancel);
       !done.ok()) {
     return done.take_error();

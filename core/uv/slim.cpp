@@ -17,7 +17,6 @@ namespace seam::core {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxProxyWeight = 1e8;
 constexpr int kHoldRounds = 8;  // rounds of contacts and held vertices per step
 constexpr int kMinContactSolves = 32;  // per step, whatever a factorization costs

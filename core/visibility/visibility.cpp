@@ -10,6 +10,8 @@
 #include <memory>
 #include <thread>
 
+#include "core/timing.h"
+
 namespace seam::core {
 namespace {
 
@@ -180,7 +182,7 @@ Result<Visibility> compute_visibility(const HalfedgeMesh& mesh, const Visibility
   for (auto& t : pool) t.join();
   if (stopped || cancel.is_cancelled()) return cancelled_error("visibility");
   out.rays = faces * (rays.views.size() + rays.pattern.size());
-  out.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  out.ms = ms_since(start);
   return out;
 }
 
