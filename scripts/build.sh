@@ -17,6 +17,6 @@ case "$flavour" in
 esac
 # Explicit defaults, so options cached by an earlier configure never leak into this one;
 # the caller's arguments come last and win.
-defaults=(-DSEAM_BUILD_SERVER=ON -DSEAM_BUILD_TESTS=ON -DSEAM_BUILD_BENCH=OFF -DSEAM_WERROR=OFF)
+defaults=(-DSEAM_BUILD_SERVER=ON -DSEAM_BUILD_TESTS=ON -DSEAM_BUILD_BENCH=OFF -DSEAM_WERROR=OFF -DSEAM_UNITY_BATCH=8)
 cmake -S "$root" -B "$root/build/$flavour" -G Ninja "${args[@]}" "${defaults[@]}" "$@" >/dev/null
 cmake --build "$root/build/$flavour" -j "$jobs"

@@ -10,22 +10,36 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 jobs="${SEAM_JOBS:-2}"
 start=$(date +%s)
+# Each phase prints its seconds, so a CI log shows where the budget (30 minutes) goes.
+phase_start=$start
+phase_done() {
+  local now
+  now=$(date +%s)
+  echo "== $1: $(( now - phase_start )) s =="
+  phase_start=$now
+}
 "$root/scripts/install-deps.sh" --test
 "$root/scripts/fetch-test-data.sh"
+phase_done "dependencies and test data"
 
 echo "== release build (-Werror) =="
 "$root/scripts/build.sh" release -DSEAM_WERROR=ON -DSEAM_BUILD_TESTS=ON
+phase_done "release build"
 echo "== release tests =="
 ctest --test-dir "$root/build/release" -j "$jobs" --output-on-failure --timeout 900
+phase_done "release tests"
 
 echo "== sanitizer build (address;undefined, -Werror) =="
 "$root/scripts/build.sh" asan -DSEAM_WERROR=ON -DSEAM_BUILD_TESTS=ON
+phase_done "sanitizer build"
 echo "== sanitizer tests =="
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$root/build/asan" -j "$jobs" --output-on-failure --timeout 1800
+phase_done "sanitizer tests"
 
 if [[ -x "$root/scripts/fuzz.sh" ]]; then
   echo "== fuzz (short run) =="
   "$root/scripts/fuzz.sh" 60
+  phase_done "fuzzing"
 fi
 echo "== all tests passed in $(( $(date +%s) - start )) s =="
