@@ -168,13 +168,13 @@ ApiResult<core::IndexedMesh> read_obj(std::string_view text) {
 
 ApiResult<core::IndexedMesh> read_mesh_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return make_api_error(ApiErrorCode::kMalformedAsset, "cannot open '" + path + "'");
+  if (!in) return malformed_asset("cannot open '" + path + "'");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::string ext = path.substr(path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext == ".off") return read_off(text);
   if (ext == ".obj") return read_obj(text);
-  return make_api_error(ApiErrorCode::kMalformedAsset, "'" + path + "' is neither .off nor .obj");
+  return malformed_asset("'" + path + "' is neither .off nor .obj");
 }
 
 std::string write_off(const core::IndexedMesh& mesh) {

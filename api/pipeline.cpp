@@ -20,10 +20,8 @@
 namespace seam::api {
 namespace {
 
-using nlohmann::json;
-using Clock = std::chrono::steady_clock;
-
 using core::ms_since;
+using nlohmann::json;
 
 // One primitive to process and the extrema it uses.
 struct Selected {
@@ -301,9 +299,9 @@ json response_body(const GltfDocument& doc, const std::vector<Selected>& selecte
 
 ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, const SeamParams& params,
                               const PipelineLimits& limits, const core::CancelToken& cancel) {
-  const auto t_start = Clock::now();
+  const auto t_start = core::StageClock::now();
   json timings = json::object();
-  auto t = Clock::now();
+  auto t = core::StageClock::now();
   // Cost caps before any work on the mesh.
   if (auto count = request_explicit_extrema(params, limits.max_extrema); !count.ok()) return count.take_error();
   ReadLimits read_limits;
@@ -316,16 +314,16 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
     return make_api_error(ApiErrorCode::kTimeout, "the computation exceeded the time budget during parsing");
   }
 
-  t = Clock::now();
+  t = core::StageClock::now();
   JobOutcomes jobs = run_jobs(selected, data, params, limits, cancel);
   if (jobs.error) return std::move(*jobs.error);
   timings["primitives"] = ms_since(t);
 
-  t = Clock::now();
+  t = core::StageClock::now();
   SEAM_TRY(const std::vector<PackOutcome> packed, pack_step(doc, selected, jobs, params, cancel));
   timings["pack"] = ms_since(t);
 
-  t = Clock::now();
+  t = core::StageClock::now();
   std::vector<ReplacedPrimitive> replaced;
   std::vector<bool> draco;
   for (std::size_t i = 0; i < selected.size(); ++i) {

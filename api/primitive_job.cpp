@@ -21,7 +21,6 @@ namespace seam::api {
 namespace {
 
 using nlohmann::json;
-using Clock = std::chrono::steady_clock;
 
 using core::ms_since;
 
@@ -344,7 +343,7 @@ ApiResult<std::vector<double>> vertex_costs(const PrimitiveData& data, const Sur
                                [](const AttributeArray& a) { return a.name == "_SEAM_COST"; });
   if (it == data.attributes.end()) return std::vector<double>{};
   if (it->component_type != 5126 || it->components != 1) {
-    return make_api_error(ApiErrorCode::kMalformedAsset, "_SEAM_COST must be a SCALAR float attribute");
+    return malformed_asset("_SEAM_COST must be a SCALAR float attribute");
   }
   std::vector<double> welded(s.welded_vertices, 0.0);
   for (std::size_t i = 0; i < it->count; ++i) {
@@ -502,16 +501,16 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
                                              const SeamParams& params, const PrimitiveJobOptions& options,
                                              const core::CancelToken& cancel) {
   json timings = json::object();
-  auto t = Clock::now();
+  auto t = core::StageClock::now();
   SEAM_TRY(const Surface surface, prepare_surface(data, params, cancel));
   timings["weld"] = ms_since(t);
   if (cancel.is_cancelled()) return timeout("welding");
 
-  t = Clock::now();
+  t = core::StageClock::now();
   SEAM_TRY(const std::vector<core::VertexId> terminals, resolve_extrema(extrema, data, surface, options, cancel));
   timings["extrema"] = ms_since(t);
 
-  t = Clock::now();
+  t = core::StageClock::now();
   core::SeamOptions seam_options;
   seam_options.method = params.method;
   seam_options.refine = params.refine;
@@ -523,14 +522,14 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   const std::vector<core::EdgeId>& cut_edges = seam_cut.cut_edges;
   timings["seam"] = ms_since(t);
 
-  t = Clock::now();
+  t = core::StageClock::now();
   auto cut = core::cut_along_edges(surface.mesh, cut_edges);
   if (!cut.ok()) return from_core(cut.error());
   const core::Topology cut_topology = core::compute_topology(cut->mesh);
   timings["cut"] = ms_since(t);
   if (cancel.is_cancelled()) return timeout("cutting");
 
-  t = Clock::now();
+  t = core::StageClock::now();
   std::optional<core::UvResult> uv;
   if (params.uv) {
     core::UvOptions uv_options;
@@ -541,7 +540,7 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   }
   timings["uv"] = ms_since(t);
 
-  t = Clock::now();
+  t = core::StageClock::now();
   SEAM_TRY(OutputVertices output, map_output_vertices(data, surface.canon, *cut));
   PrimitiveResult result;
   result.cut = std::move(output.primitive);

@@ -16,7 +16,6 @@ namespace seam::api {
 namespace {
 
 using nlohmann::json;
-using Clock = std::chrono::steady_clock;
 
 using core::ms_since;
 
@@ -210,36 +209,36 @@ ApiError build_error(const core::Error& error, const Canonical& canon, const Pri
 
 ApiResult<Surface> prepare_surface(const PrimitiveData& data, const SeamParams& params, const core::CancelToken& cancel) {
   SurfaceTimings time;
-  auto t = Clock::now();
+  auto t = core::StageClock::now();
   Canonical canon;
   {
     auto weld = core::weld_vertices(data.mesh.positions, core::WeldOptions{params.weld_epsilon}, cancel);
     if (!weld.ok()) return from_core(weld.error());
     time.weld = ms_since(t);
-    t = Clock::now();
+    t = core::StageClock::now();
     canon = canonicalize(*weld, data.mesh.triangles);  // the weld's maps are freed at the brace
     time.canonicalize = ms_since(t);
   }
 
   // Both the repair and the pinch split change nothing on a soup the builder accepts (repair.h,
   // split_pinched.h), so they run only after a refusal, and a clean soup is built once.
-  t = Clock::now();
+  t = core::StageClock::now();
   auto built = core::build_halfedge_mesh(canon.positions, canon.triangles);
   time.build = ms_since(t);
   if (built.ok()) {
     mark_unrepaired(canon);
   } else {
-    t = Clock::now();
+    t = core::StageClock::now();
     if (params.repair) repair(canon);
     else split_pinched(canon);
     time.repair = ms_since(t);
-    t = Clock::now();
+    t = core::StageClock::now();
     built = core::build_halfedge_mesh(canon.positions, canon.triangles);
     time.build += ms_since(t);
     if (!built.ok()) return build_error(built.error(), canon, data);
   }
 
-  t = Clock::now();
+  t = core::StageClock::now();
   core::Topology topology = core::compute_topology(*built);
   time.topology = ms_since(t);
   time.total = time.weld + time.canonicalize + time.repair + time.build + time.topology;

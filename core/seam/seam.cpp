@@ -62,8 +62,6 @@ const char* seam_method_name(SeamMethod method) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 struct ComponentSeam {
   bool exact = true;                    // the tree is a minimum one for its terminals
   std::vector<EdgeId> seam_edges;       // in the input mesh
@@ -123,17 +121,17 @@ bool exact_is_cheap(const SeamOptions& options, std::size_t terminals, std::size
 Result<MethodTree> exact_tree(const SearchSurface& work, std::span<const VertexId> terminals,
                               const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
   if (terminals.size() < 6) {
-    const auto start = Clock::now();
+    const auto start = StageClock::now();
     auto exact = optimal_seam(work, terminals, options.optimal_max_terminals, cancel);
     stats.method_ms += ms_since(start);
     if (!exact.ok()) return exact.take_error();
     ++stats.exact_components;
     return MethodTree{std::move(exact->edges), true};
   }
-  auto start = Clock::now();
+  auto start = StageClock::now();
   SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, terminals, cancel));
   stats.paths_ms += ms_since(start);
-  start = Clock::now();
+  start = StageClock::now();
   SEAM_TRY(SkeletonResult skeleton,
            skeleton_seam(work, paths, SkeletonOptions{.refine = false, .improve = true}, cancel));
   const double bound = skeleton.tree.length * (1.0 + 1e-9) + 1e-12;
@@ -161,7 +159,7 @@ Result<MethodTree> run_method(const SearchSurface& work, std::span<const VertexI
   }
   if (terminals.size() == 2) {
     // §4.1: two terminals, the seam is their shortest path (the same for every method).
-    auto start = Clock::now();
+    auto start = StageClock::now();
     SEAM_TRY(auto edges, shortest_path_edges(work, terminals[0], terminals[1], cancel));
     stats.paths_ms += ms_since(start);
     return MethodTree{std::move(edges), true};
@@ -173,10 +171,10 @@ Result<MethodTree> run_method(const SearchSurface& work, std::span<const VertexI
     if (exact.ok() || exact.error().code != ErrorCode::kTooManyTerminals) return exact;
   }
   if (options.method == SeamMethod::kSkeleton || options.method == SeamMethod::kMst) {
-    auto start = Clock::now();
+    auto start = StageClock::now();
     SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, terminals, cancel));
     stats.paths_ms += ms_since(start);
-    start = Clock::now();
+    start = StageClock::now();
     if (options.method == SeamMethod::kSkeleton) {
       SEAM_TRY(SkeletonResult skeleton, skeleton_seam(work, paths,
                                                       SkeletonOptions{.refine = options.refine && options.local_refine,
@@ -189,7 +187,7 @@ Result<MethodTree> run_method(const SearchSurface& work, std::span<const VertexI
     }
     stats.method_ms += ms_since(start);
   } else {
-    auto start = Clock::now();
+    auto start = StageClock::now();
     if (options.method == SeamMethod::kGreedy) {
       SEAM_TRY(tree, greedy_seam(work, terminals, cancel));
     } else {
@@ -403,7 +401,7 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
                                         std::span<const FaceId> faces, std::span<const VertexId> extrema,
                                         const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
   ComponentSeam out;
-  auto start = Clock::now();
+  auto start = StageClock::now();
   SEAM_TRY(ComponentSurface surface, open_component(mesh, topo, component, faces, cancel));
   out.cut_graph_edges = std::move(surface.cut_graph_edges);
   std::vector<VertexId> terminals = disc_terminals(surface, extrema);
@@ -411,7 +409,7 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
   stats.preprocess_ms += ms_since(start);
 
   if (!surface.has_boundary && terminals.size() < 2) {
-    start = Clock::now();
+    start = StageClock::now();
     SEAM_TRY(terminals, axis_terminals(surface.disc(), std::move(terminals), cancel));
     for (std::size_t i = extrema.size() > 0 ? 1 : 0; i < terminals.size(); ++i) {
       out.extra_terminals.push_back(surface.disc_to_mesh(terminals[i]));
@@ -517,7 +515,7 @@ std::vector<EdgeId> all_cut_edges(const SeamResult& seam) {
 
 Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, std::span<const VertexId> extrema, const SeamOptions& options,
                                 const CancelToken& cancel) {
-  const auto start = Clock::now();
+  const auto start = StageClock::now();
   const Topology topology = compute_topology(mesh);
   const double topology_ms = ms_since(start);
   SEAM_TRY(SeamResult result, compute_seam(mesh, topology, extrema, options, cancel));
@@ -573,7 +571,7 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, const Topology& topo, 
 
   // The contract: seam plus cut graph opens every component into one disc. Checked here,
   // on the real cut, so a bug anywhere above is a typed error and not a wrong answer.
-  const auto start = Clock::now();
+  const auto start = StageClock::now();
   const std::vector<EdgeId> all = all_cut_edges(result);
   // Counting wedges, edges and faces per part gives the same answer as building the cut mesh
   // (core/mesh/cut_check.h) at a fraction of the cost on large meshes.

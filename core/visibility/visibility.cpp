@@ -15,7 +15,6 @@
 namespace seam::core {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr double kPi = 3.14159265358979323846;
 
 struct DeviceDeleter {
@@ -145,7 +144,7 @@ Status check(const VisibilityOptions& options) {
 
 Result<Visibility> compute_visibility(const HalfedgeMesh& mesh, const VisibilityOptions& options,
                                       const CancelToken& cancel) {
-  const auto start = Clock::now();
+  const auto start = StageClock::now();
   if (auto valid = check(options); !valid.ok()) return valid.take_error();
   Visibility out;
   if (options.views.empty() && !options.ambient_occlusion) return out;
