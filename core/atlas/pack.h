@@ -86,9 +86,11 @@ struct PackResult {
 /// Complexity: O(sum of H_i^2) for the rectangles (H_i hull sizes); packer (1) about 40
 /// passes of O(n * S) (S skyline segments <= n + 1), O(n^2) worst; packer (2) about 20 passes
 /// of O(n * 4 * (256 * W + B)) for W columns per chart and B boundary edges; packer (3)
-/// O(orientations * (T + 512^2 / 8)) per chart to rasterize (T triangles) plus the positions
-/// tried, which skip runs of full cells. 1,000 charts (packer 1 only): ~25 ms of CPU; atlas_bench's
-/// groups of 4-113 charts of 10^3-10^5 triangles: 75-300 ms of CPU (bench/atlas_bench.cpp).
+/// O(T log T) per chart for its outline, then per orientation O(V + B * rows + cells) to
+/// rasterize where all its triangles have one orientation (B outline edges; else O(T * rows),
+/// T triangles), plus the positions tried, which skip runs of full cells. 1,000 charts
+/// (packer 1 only): ~25 ms of CPU; atlas_bench's groups of 4-115 charts of 10^3-10^5
+/// triangles: 77-195 ms of CPU (bench/atlas_bench.cpp).
 Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options = {},
                                const CancelToken& cancel = CancelToken::none());
 

@@ -26,35 +26,86 @@ struct Mask {
   Vec2 hi = Vec2::Zero();
 };
 
-// Marks the cells of a w x h byte grid (unit cells) that the closed triangle touches. Row by
-// row: the triangle's part within the row's slab is convex, so it touches exactly the cells
-// its x-extent meets; the extent comes from the edges clipped to the slab. Degenerate
-// triangles (segments) are handled alike.
-void mark_triangle(const std::array<Vec2, 3>& t, int w, int h, std::vector<std::uint8_t>& cells) {
-  constexpr double kEps = 1e-9;
-  const Vec2 lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
-  const Vec2 hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+constexpr double kEps = 1e-9;
+
+// Widens [x_lo, x_hi] by the x-extent of segment a-b within row j's slab [j, j + 1] (grown by
+// kEps); leaves it when the segment misses the slab.
+void clip_to_row(const Vec2& a, const Vec2& b, int j, double& x_lo, double& x_hi) {
+  const double y0 = std::max(std::min(a.y(), b.y()), j - kEps);
+  const double y1 = std::min(std::max(a.y(), b.y()), j + 1 + kEps);
+  if (y0 > y1) return;
+  for (double y : {y0, y1}) {
+    const double x =
+        a.y() == b.y() ? a.x() : a.x() + (b.x() - a.x()) * std::clamp((y - a.y()) / (b.y() - a.y()), 0.0, 1.0);
+    x_lo = std::min({x_lo, x, a.y() == b.y() ? b.x() : x});
+    x_hi = std::max({x_hi, x, a.y() == b.y() ? b.x() : x});
+  }
+}
+
+// Marks the cells of a w x h byte grid (unit cells) that the closed polygon `p` (a triangle,
+// or a segment as two points) touches. Row by row: its part within the row's slab is convex,
+// so it touches exactly the cells its x-extent meets; the extent comes from the edges clipped
+// to the slab. Degenerate triangles (segments) are handled alike.
+template <std::size_t N>
+void mark_polygon(const std::array<Vec2, N>& p, int w, int h, std::vector<std::uint8_t>& cells) {
+  Vec2 lo = p[0];
+  Vec2 hi = p[0];
+  for (const Vec2& v : p) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
   const int j0 = std::clamp(static_cast<int>(std::floor(lo.y() - kEps)), 0, h - 1);
   const int j1 = std::clamp(static_cast<int>(std::floor(hi.y() + kEps)), 0, h - 1);
   for (int j = j0; j <= j1; ++j) {
     double x_lo = std::numeric_limits<double>::infinity();
     double x_hi = -x_lo;
-    for (int k = 0; k < 3; ++k) {
-      const Vec2& a = t[k];
-      const Vec2& b = t[(k + 1) % 3];
-      const double y0 = std::max(std::min(a.y(), b.y()), j - kEps);
-      const double y1 = std::min(std::max(a.y(), b.y()), j + 1 + kEps);
-      if (y0 > y1) continue;
-      for (double y : {y0, y1}) {
-        const double x = a.y() == b.y() ? a.x() : a.x() + (b.x() - a.x()) * std::clamp((y - a.y()) / (b.y() - a.y()), 0.0, 1.0);
-        x_lo = std::min({x_lo, x, a.y() == b.y() ? b.x() : x});
-        x_hi = std::max({x_hi, x, a.y() == b.y() ? b.x() : x});
-      }
-    }
+    for (std::size_t k = 0; k < (N == 2 ? 1 : N); ++k) clip_to_row(p[k], p[(k + 1) % N], j, x_lo, x_hi);
     if (x_lo > x_hi) continue;
     const int i0 = std::clamp(static_cast<int>(std::floor(x_lo - kEps)), 0, w - 1);
     const int i1 = std::clamp(static_cast<int>(std::floor(x_hi + kEps)), 0, w - 1);
     std::fill_n(cells.begin() + static_cast<std::ptrdiff_t>(j) * w + i0, i1 - i0 + 1, 1);
+  }
+}
+
+// Marks the cells of a w x h byte grid whose centre has a non-zero winding number with
+// respect to the closed chain of directed segments `edges` over points `p` (in cell units).
+// A crossing counts where the segment's half-open y-range [min, max) holds the row's centre
+// line; cells whose centres lie on the chain are marked or not (the chain's own cells are
+// marked apart).
+void fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<const Vec2> p, int w, int h,
+                 std::vector<std::uint8_t>& cells) {
+  struct Crossing {
+    double x;
+    int row;
+    int delta;
+  };
+  std::vector<Crossing> crossings;
+  for (const auto& [s, e] : edges) {
+    const Vec2& a = p[s];
+    const Vec2& b = p[e];
+    if (a.y() == b.y()) continue;
+    const double y_lo = std::min(a.y(), b.y());
+    const double y_hi = std::max(a.y(), b.y());
+    // Rows j with y_lo <= j + 0.5 < y_hi.
+    const int j0 = std::max(0, static_cast<int>(std::ceil(y_lo - 0.5)));
+    const int j1 = std::min(h - 1, static_cast<int>(std::ceil(y_hi - 0.5)) - 1);
+    const double slope = (b.x() - a.x()) / (b.y() - a.y());
+    for (int j = j0; j <= j1; ++j) {
+      const double x = std::clamp(a.x() + (j + 0.5 - a.y()) * slope, std::min(a.x(), b.x()), std::max(a.x(), b.x()));
+      crossings.push_back({x, j, b.y() > a.y() ? 1 : -1});
+    }
+  }
+  std::sort(crossings.begin(), crossings.end(),
+            [](const Crossing& u, const Crossing& v) { return u.row != v.row ? u.row < v.row : u.x < v.x; });
+  int winding = 0;
+  for (std::size_t k = 0; k < crossings.size(); ++k) {
+    const Crossing& c = crossings[k];
+    winding += c.delta;
+    if (winding == 0 || k + 1 == crossings.size() || crossings[k + 1].row != c.row) continue;
+    // Centres i + 0.5 in [c.x, next.x].
+    const int i0 = std::max(0, static_cast<int>(std::ceil(c.x - 0.5)));
+    const int i1 = std::min(w - 1, static_cast<int>(std::floor(crossings[k + 1].x - 0.5)));
+    if (i0 <= i1) std::fill_n(cells.begin() + static_cast<std::ptrdiff_t>(c.row) * w + i0, i1 - i0 + 1, 1);
   }
 }
 
@@ -105,31 +156,15 @@ void fill_words(const std::vector<std::uint8_t>& cells, Mask& m) {
   }
 }
 
-Mask rasterize(const RasterChart& chart, double angle, double cell, int grow) {
-  const double c = std::cos(angle);
-  const double s = std::sin(angle);
-  std::vector<Vec2> q(chart.uv.size());
+Mask rasterize(const ChartCells& chart, double angle, double cell, int grow) {
+  ChartCells::Cells c = chart.cells(angle, cell);
   Mask m;
-  m.lo = Vec2::Constant(std::numeric_limits<double>::infinity());
-  m.hi = -m.lo;
-  for (const Triangle& t : chart.triangles) {
-    for (std::uint32_t v : t) {
-      const Vec2 p = chart.scale * chart.uv[v];
-      q[v] = Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y());
-      m.lo = m.lo.cwiseMin(q[v]);
-      m.hi = m.hi.cwiseMax(q[v]);
-    }
-  }
-  const int w = static_cast<int>(std::floor((m.hi.x() - m.lo.x()) / cell)) + 1;
-  const int h = static_cast<int>(std::floor((m.hi.y() - m.lo.y()) / cell)) + 1;
-  std::vector<std::uint8_t> cells(static_cast<std::size_t>(w) * h, 0);
-  for (const Triangle& t : chart.triangles) {
-    mark_triangle({(q[t[0]] - m.lo) / cell, (q[t[1]] - m.lo) / cell, (q[t[2]] - m.lo) / cell}, w, h, cells);
-  }
-  m.w = w + 2 * grow;
-  m.h = h + 2 * grow;
+  m.lo = c.lo;
+  m.hi = c.hi;
+  m.w = c.w + 2 * grow;
+  m.h = c.h + 2 * grow;
   m.origin = m.lo - Vec2::Constant(grow * cell);
-  fill_words(grow_cells(cells, w, h, grow), m);
+  fill_words(grow_cells(c.mask, c.w, c.h, grow), m);
   return m;
 }
 
@@ -247,6 +282,86 @@ void search(const Grid& grid, const Mask& m, int angle, int ex, int ey, Pick& be
 
 }  // namespace
 
+ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(chart.triangles), scale_(chart.scale) {
+  const std::span<const Vec2> uv = chart.uv;
+  for (const Triangle& t : chart.triangles) used_.insert(used_.end(), t.begin(), t.end());
+  std::sort(used_.begin(), used_.end());
+  used_.erase(std::unique(used_.begin(), used_.end()), used_.end());
+  // One strict orientation, well clear of rounding: else the triangles are drawn one by one.
+  int sign = 0;
+  for (const Triangle& t : chart.triangles) {
+    const Vec2 ab = uv[t[1]] - uv[t[0]];
+    const Vec2 ac = uv[t[2]] - uv[t[0]];
+    const double cross = ab.x() * ac.y() - ab.y() * ac.x();
+    const int s = cross > 1e-12 * ab.norm() * ac.norm() ? 1 : cross < -1e-12 * ab.norm() * ac.norm() ? -1 : 0;
+    if (s == 0 || (sign != 0 && s != sign)) return;
+    sign = s;
+  }
+  // Vertices at one UV point are one point of the outline (a mesh split along hard edges or
+  // seams repeats its vertices; their edges cancel as segments all the same).
+  std::vector<std::uint32_t> by_point = used_;
+  const auto point_less = [&](std::uint32_t a, std::uint32_t b) {
+    return uv[a].x() != uv[b].x() ? uv[a].x() < uv[b].x() : uv[a].y() < uv[b].y();
+  };
+  std::sort(by_point.begin(), by_point.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return point_less(a, b) || (!point_less(b, a) && a < b); });
+  std::vector<std::uint32_t> point(uv.size());
+  for (std::size_t i = 0; i < by_point.size(); ++i) {
+    const bool same = i > 0 && uv[by_point[i]] == uv[by_point[i - 1]];
+    point[by_point[i]] = same ? point[by_point[i - 1]] : by_point[i];
+  }
+  // The outline: directed edges, each segment's two directions cancelled.
+  std::vector<std::pair<std::uint64_t, int>> directed;
+  directed.reserve(3 * chart.triangles.size());
+  for (const Triangle& t : chart.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = point[t[k]];
+      const std::uint32_t b = point[t[(k + 1) % 3]];
+      directed.emplace_back((std::uint64_t{std::min(a, b)} << 32) | std::max(a, b), a < b ? 1 : -1);
+    }
+  }
+  std::sort(directed.begin(), directed.end());
+  for (std::size_t i = 0; i < directed.size();) {
+    int net = 0;
+    std::size_t j = i;
+    for (; j < directed.size() && directed[j].first == directed[i].first; ++j) net += directed[j].second;
+    const auto lo = static_cast<std::uint32_t>(directed[i].first >> 32);
+    const auto hi = static_cast<std::uint32_t>(directed[i].first);
+    for (int k = 0; k < std::abs(net); ++k) outline_.push_back(net > 0 ? std::array{lo, hi} : std::array{hi, lo});
+    i = j;
+  }
+  // An outline longer than the triangles are many (a soup of unshared edges) costs more to
+  // draw than the triangles themselves.
+  by_outline_ = outline_.size() <= chart.triangles.size();
+  if (!by_outline_) outline_.clear();
+}
+
+ChartCells::Cells ChartCells::cells(double angle, double cell) const {
+  const double c = std::cos(angle);
+  const double s = std::sin(angle);
+  std::vector<Vec2> p(uv_.size());
+  Cells out;
+  out.lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+  out.hi = -out.lo;
+  for (std::uint32_t v : used_) {
+    const Vec2 q = scale_ * uv_[v];
+    p[v] = Vec2(c * q.x() - s * q.y(), s * q.x() + c * q.y());
+    out.lo = out.lo.cwiseMin(p[v]);
+    out.hi = out.hi.cwiseMax(p[v]);
+  }
+  out.w = static_cast<int>(std::floor((out.hi.x() - out.lo.x()) / cell)) + 1;
+  out.h = static_cast<int>(std::floor((out.hi.y() - out.lo.y()) / cell)) + 1;
+  for (std::uint32_t v : used_) p[v] = (p[v] - out.lo) / cell;
+  out.mask.assign(static_cast<std::size_t>(out.w) * out.h, 0);
+  if (by_outline_) {
+    for (const auto& [a, b] : outline_) mark_polygon(std::array{p[a], p[b]}, out.w, out.h, out.mask);
+    fill_inside(outline_, p, out.w, out.h, out.mask);
+  } else {
+    for (const Triangle& t : triangles_) mark_polygon(std::array{p[t[0]], p[t[1]], p[t[2]]}, out.w, out.h, out.mask);
+  }
+  return out;
+}
+
 RasterLayout raster_pack(std::span<const RasterChart> charts, std::span<const std::size_t> order, double bound,
                          double margin_fraction, int grid) {
   const double cell = bound / grid;
@@ -262,10 +377,11 @@ RasterLayout raster_pack(std::span<const RasterChart> charts, std::span<const st
   double reach = 0;
   for (std::size_t idx : order) {
     const RasterChart& chart = charts[idx];
+    const ChartCells chart_cells(chart);
     std::vector<Mask> masks;
     Pick best;
     for (std::size_t a = 0; a < chart.angles.size(); ++a) {
-      masks.push_back(rasterize(chart, chart.angles[a], cell, grow));
+      masks.push_back(rasterize(chart_cells, chart.angles[a], cell, grow));
       if (masks.back().w <= grid && masks.back().h <= grid) search(atlas, masks.back(), static_cast<int>(a), ex, ey, best);
     }
     if (best.angle < 0) return {};

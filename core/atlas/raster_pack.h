@@ -4,7 +4,9 @@
 // interlock and small charts fill the holes of big ones.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <vector>
@@ -33,6 +35,47 @@ struct PlacedChart {
 struct RasterLayout {
   double side = std::numeric_limits<double>::infinity();  ///< infinity: the charts did not fit
   std::vector<PlacedChart> slots;                           ///< one per chart, in input order
+};
+
+/// The cells of a grid (unit cells of side `cell`) that a chart, rotated by an angle, touches:
+/// each closed triangle marks every closed cell it meets (to within 1e-9 of a cell), so a
+/// chart's mask never misses a point of it. Built once per chart, then asked per angle.
+///
+/// Where every triangle has one strict orientation (a flattening without flips, which the
+/// default map is), the chart's triangles are not drawn one by one: the cells its outline
+/// meets are marked (the edges whose two directions do not cancel, i.e. the boundary of the
+/// sum of the triangles), and a cell the outline misses is marked when its centre has a
+/// non-zero winding number. With one orientation the winding number at a point is (up to
+/// sign) the number of triangles covering it, and a cell that meets the chart but not its
+/// outline lies inside it, so both ways give the same cells, overlapping triangles
+/// included: O(V + B * rows + cells) per angle (B outline edges) instead of O(T * rows).
+/// Triangles of mixed or zero orientation (folds, degenerate UVs) are drawn one by one.
+class ChartCells {
+ public:
+  /// O(T log T): the outline (directed edges sorted and cancelled) and the vertices in use.
+  /// Keeps the chart's spans (not its angles), which must outlive this.
+  explicit ChartCells(const RasterChart& chart);
+
+  struct Cells {
+    int w = 0;                       ///< cells across
+    int h = 0;                       ///< cells up
+    Vec2 lo = Vec2::Zero();          ///< the rotated chart's bounding box; cell (0, 0)'s
+    Vec2 hi = Vec2::Zero();          ///< lower-left corner is lo
+    std::vector<std::uint8_t> mask;  ///< w * h, row by row: 1 where the chart touches
+  };
+  /// The chart's points scale * uv rotated counter-clockwise by `angle`, on cells of side `cell`.
+  Cells cells(double angle, double cell) const;
+
+  /// Whether cells() fills from the outline (every triangle of one strict orientation).
+  bool by_outline() const { return by_outline_; }
+
+ private:
+  std::span<const Vec2> uv_;
+  std::span<const Triangle> triangles_;
+  double scale_ = 1;
+  std::vector<std::uint32_t> used_;  // vertices of the triangles, ascending
+  bool by_outline_ = false;
+  std::vector<std::array<std::uint32_t, 2>> outline_;  // directed, multiplicity repeated
 };
 
 /// Packs the charts (in `order`) into a square of side at most `bound` (unit-density units)
