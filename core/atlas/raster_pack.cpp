@@ -109,49 +109,82 @@ void fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<
   }
 }
 
-// One line grown by g: out[k * out_step] (k < n + 2g) is set when some in[k' * in_step] with
-// k - 2g <= k' <= k (k' < n) is.
-void grow_line(const std::uint8_t* in, std::size_t in_step, int n, std::uint8_t* out, std::size_t out_step, int g) {
-  int last = INT_MIN / 2;
-  for (int k = 0; k < n + 2 * g; ++k) {
-    if (k < n && in[k * in_step]) last = k;
-    out[k * out_step] = last >= k - 2 * g;
+// row |= row << k over `words` words (towards higher x; bits beyond the row are dropped).
+// In place from the highest word down, so every word reads words not yet changed.
+void or_shifted(std::uint64_t* row, int words, int k) {
+  const int ws = k / 64;
+  const int bs = k % 64;
+  for (int i = words - 1; i >= ws; --i) {
+    std::uint64_t v = row[i - ws] << bs;
+    if (bs != 0 && i - ws >= 1) v |= row[i - ws - 1] >> (64 - bs);
+    row[i] |= v;
   }
 }
 
-// Cells grown by g in every direction (square neighbourhood): out is (w + 2g) x (h + 2g) and
-// out(x, y) is set when some in(x', y') has x - 2g <= x' <= x and y - 2g <= y' <= y.
-std::vector<std::uint8_t> grow_cells(const std::vector<std::uint8_t>& in, int w, int h, int g) {
-  const std::size_t ow = w + 2 * g;
-  std::vector<std::uint8_t> rows(h * ow, 0);
-  for (int y = 0; y < h; ++y) grow_line(&in[y * std::size_t(w)], 1, w, &rows[y * ow], 1, g);
-  std::vector<std::uint8_t> out((h + 2 * g) * ow, 0);
-  for (std::size_t x = 0; x < ow; ++x) grow_line(&rows[x], ow, h, &out[x], ow, g);
-  return out;
+// The set bit of `row` with `rank` set bits before it (rank < the row's set bits).
+int nth_set(const std::uint64_t* row, int words, std::size_t rank) {
+  for (int i = 0; i < words; ++i) {
+    std::uint64_t word = row[i];
+    const auto count = static_cast<std::size_t>(std::popcount(word));
+    if (rank >= count) {
+      rank -= count;
+      continue;
+    }
+    for (; rank > 0; --rank) word &= word - 1;  // drop the lowest set bits
+    return i * 64 + std::countr_zero(word);
+  }
+  return -1;
 }
 
-// The words, row spans and probes of a grown byte grid.
-void fill_words(const std::vector<std::uint8_t>& cells, Mask& m) {
+// The chart's cells grown by g in every direction (a square neighbourhood), as the mask's
+// words: cell (x, y) of the (w + 2g) x (h + 2g) mask is set when some cell (x', y') of `c`
+// with x - 2g <= x' <= x and y - 2g <= y' <= y is. Rows are packed into words, then grown
+// along x by shifted ORs (windows doubling to 2g + 1 bits) and along y alike over rows;
+// then the row spans and the probes.
+void grow_into(const ChartCells::Cells& c, int g, Mask& m) {
+  m.w = c.w + 2 * g;
+  m.h = c.h + 2 * g;
   m.words = (m.w + 63) / 64;
   m.bits.assign(static_cast<std::size_t>(m.h) * m.words, 0);
+  for (int y = 0; y < c.h; ++y) {
+    const std::uint8_t* in = &c.mask[static_cast<std::size_t>(y) * c.w];
+    std::uint64_t* row = &m.bits[static_cast<std::size_t>(y) * m.words];
+    for (int x = 0; x < c.w; ++x) row[x / 64] |= std::uint64_t{in[x]} << (x % 64);
+  }
+  const int window = 2 * g + 1;
+  int len = 1;
+  for (; 2 * len <= window; len *= 2) {
+    for (int y = 0; y < c.h; ++y) or_shifted(&m.bits[static_cast<std::size_t>(y) * m.words], m.words, len);
+  }
+  if (len < window) {
+    for (int y = 0; y < c.h; ++y) or_shifted(&m.bits[static_cast<std::size_t>(y) * m.words], m.words, window - len);
+  }
+  const auto or_rows_below = [&](int k) {  // row y |= row y - k, rows from the top down
+    for (int y = m.h - 1; y >= k; --y) {
+      std::uint64_t* to = &m.bits[static_cast<std::size_t>(y) * m.words];
+      const std::uint64_t* from = &m.bits[static_cast<std::size_t>(y - k) * m.words];
+      for (int i = 0; i < m.words; ++i) to[i] |= from[i];
+    }
+  };
+  for (len = 1; 2 * len <= window; len *= 2) or_rows_below(len);
+  if (len < window) or_rows_below(window - len);
+
   m.span.assign(m.h, {INT_MAX, -1});
   for (int y = 0; y < m.h; ++y) {
-    for (int x = 0; x < m.w; ++x) {
-      if (!cells[static_cast<std::size_t>(y) * m.w + x]) continue;
-      m.bits[static_cast<std::size_t>(y) * m.words + x / 64] |= std::uint64_t{1} << (x % 64);
-      m.span[y] = {std::min(m.span[y][0], x / 64), x / 64};
+    const std::uint64_t* row = &m.bits[static_cast<std::size_t>(y) * m.words];
+    for (int i = 0; i < m.words; ++i) {
+      if (row[i] != 0) m.span[y] = {std::min(m.span[y][0], i), i};
     }
   }
   // Probes: set cells spread over the mask (of rows at eighths of the height, the set cells
   // at 1/4, 1/2 and 3/4 of the row), so that most colliding positions fail on one of them.
   for (int k = 0; k < 8; ++k) {
     const int y = (2 * k + 1) * m.h / 16;
-    std::vector<int> set;
-    for (int x = 0; x < m.w; ++x) {
-      if (cells[static_cast<std::size_t>(y) * m.w + x]) set.push_back(x);
-    }
-    for (std::size_t f : {set.size() / 2, set.size() / 4, 3 * set.size() / 4}) {
-      if (f < set.size()) m.probes.push_back({set[f], y});
+    const std::uint64_t* row = &m.bits[static_cast<std::size_t>(y) * m.words];
+    std::size_t set = 0;
+    for (int i = 0; i < m.words; ++i) set += static_cast<std::size_t>(std::popcount(row[i]));
+    for (std::size_t f : {set / 2, set / 4, 3 * set / 4}) {
+      if (f < set) m.probes.push_back({nth_set(row, m.words, f), y});
     }
   }
 }
@@ -161,10 +194,8 @@ Mask rasterize(const ChartCells& chart, double angle, double cell, int grow) {
   Mask m;
   m.lo = c.lo;
   m.hi = c.hi;
-  m.w = c.w + 2 * grow;
-  m.h = c.h + 2 * grow;
   m.origin = m.lo - Vec2::Constant(grow * cell);
-  fill_words(grow_cells(c.mask, c.w, c.h, grow), m);
+  grow_into(c, grow, m);
   return m;
 }
 
