@@ -296,8 +296,14 @@ bool boundary_loops_disjoint(std::span<const Vec2> uv, const std::vector<std::ui
 // loops are simple, disjoint, turn that way too and are not nested. Then the number of
 // triangles covering a point off the edges is |the winding number of the boundary chain around
 // it| (one per loop holding it: at most 1), so no two interiors meet. False: not proven.
+// Vertices at one point are taken as one (same_point_representatives): the chain and its
+// winding numbers are the same, and a mesh split along hard edges or seams, whose repeated
+// vertices leave coincident boundary edges, gets its true boundary.
 bool injective_by_boundary(std::span<const Vec2> uv, std::span<const Triangle> triangles, int turn) {
-  const std::vector<std::uint32_t> next = boundary_successors(uv.size(), triangles);
+  const std::vector<std::uint32_t> point = same_point_representatives(uv);
+  std::vector<Triangle> welded(triangles.begin(), triangles.end());
+  for (Triangle& t : welded) t = {point[t[0]], point[t[1]], point[t[2]]};
+  const std::vector<std::uint32_t> next = boundary_successors(uv.size(), welded);
   if (next.empty()) return false;
   return boundary_loops_disjoint(uv, next, turn, 4 * triangles.size() + 64);
 }

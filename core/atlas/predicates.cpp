@@ -1,7 +1,9 @@
 #include "core/atlas/predicates.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 
 namespace seam::core {
 
@@ -72,6 +74,23 @@ int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
   if (det > bound) return 1;
   if (-det > bound) return -1;
   return exact_orient(a, b, c);
+}
+
+std::vector<std::uint32_t> same_point_representatives(std::span<const Vec2> uv,
+                                                      std::span<const std::uint32_t> vertices) {
+  std::vector<std::uint32_t> out(uv.size());
+  std::iota(out.begin(), out.end(), std::uint32_t{0});
+  std::vector<std::uint32_t> order(vertices.begin(), vertices.end());
+  if (vertices.empty()) order = out;
+  const auto before = [&](std::uint32_t a, std::uint32_t b) {
+    return uv[a].x() != uv[b].x() ? uv[a].x() < uv[b].x() : uv[a].y() < uv[b].y();
+  };
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return before(a, b) || (!before(b, a) && a < b); });
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    if (uv[order[i]] == uv[order[i - 1]]) out[order[i]] = out[order[i - 1]];
+  }
+  return out;
 }
 
 }  // namespace seam::core

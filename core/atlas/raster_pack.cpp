@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <tuple>
 
+#include "core/atlas/predicates.h"
+
 namespace seam::core::detail {
 
 namespace {
@@ -330,17 +332,7 @@ ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(cha
   }
   // Vertices at one UV point are one point of the outline (a mesh split along hard edges or
   // seams repeats its vertices; their edges cancel as segments all the same).
-  std::vector<std::uint32_t> by_point = used_;
-  const auto point_less = [&](std::uint32_t a, std::uint32_t b) {
-    return uv[a].x() != uv[b].x() ? uv[a].x() < uv[b].x() : uv[a].y() < uv[b].y();
-  };
-  std::sort(by_point.begin(), by_point.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return point_less(a, b) || (!point_less(b, a) && a < b); });
-  std::vector<std::uint32_t> point(uv.size());
-  for (std::size_t i = 0; i < by_point.size(); ++i) {
-    const bool same = i > 0 && uv[by_point[i]] == uv[by_point[i - 1]];
-    point[by_point[i]] = same ? point[by_point[i - 1]] : by_point[i];
-  }
+  const std::vector<std::uint32_t> point = same_point_representatives(uv, used_);
   // The outline: directed edges, each segment's two directions cancelled.
   std::vector<std::pair<std::uint64_t, int>> directed;
   directed.reserve(3 * chart.triangles.size());

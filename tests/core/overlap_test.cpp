@@ -85,6 +85,15 @@ TEST_CASE("orient2d agrees with exact integer arithmetic where the naive formula
   CHECK(orient2d(Vec2(0.5, 0.5), Vec2(12, 12), Vec2(std::nextafter(24.0, 25.0), 24)) == -1);
 }
 
+TEST_CASE("same_point_representatives: the lowest listed index at each exact point") {
+  const std::vector<Vec2> uv = {Vec2(1, 2), Vec2(0, 0), Vec2(1, 2), Vec2(-0.0, 0), Vec2(1, 2 + 1e-15), Vec2(1, 2)};
+  const std::vector<std::uint32_t> all = same_point_representatives(uv);
+  CHECK(all == std::vector<std::uint32_t>{0, 1, 0, 1, 4, 0});  // -0 is 0; 1e-15 apart is apart
+  // Only the listed vertices take part; the others map to themselves.
+  const std::vector<std::uint32_t> listed = {5, 2, 3};
+  CHECK(same_point_representatives(uv, listed) == std::vector<std::uint32_t>{0, 1, 2, 3, 4, 2});
+}
+
 TEST_CASE("touching is not overlap: shared edges, shared vertices, collinear contact") {
   using T = std::array<Vec2, 3>;
   const T base{Vec2(0, 0), Vec2(2, 0), Vec2(0, 2)};
@@ -116,15 +125,26 @@ TEST_CASE("a strip bent through less than a full turn has no overlap, past it th
   CHECK(open.candidate_pairs == 0);
   // Exactly a full turn: the ends touch along a radial edge and nothing more.
   CHECK_FALSE(overlaps_of(bent_strip(60, 2 * std::numbers::pi)).overlaps);
-  // Two unit squares as separate charts sharing the edge x = 1 (distinct vertices, equal
-  // coordinates): the boundaries touch, so the proof defers and the pairs decide: no overlap.
+  // Two unit squares sharing the edge x = 1 with vertices of their own at equal coordinates
+  // (a mesh split along a hard edge or a seam): vertices at one point are one, the shared
+  // edge's two directions cancel, and the boundary of the 2 x 1 rectangle proves it.
   Layout squares;
   squares.uv = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1), Vec2(1, 0), Vec2(2, 0), Vec2(2, 1), Vec2(1, 1)};
   squares.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
-  const OverlapResult touching = overlaps_of(squares);
-  CHECK_FALSE(touching.overlaps);
-  CHECK_FALSE(touching.proven_by_boundary);
-  CHECK(touching.candidate_pairs > 0);
+  const OverlapResult split = overlaps_of(squares);
+  CHECK_FALSE(split.overlaps);
+  CHECK(split.proven_by_boundary);
+  // Touching along half of that edge, or only at a corner (a pinch): the boundaries meet, so
+  // the proof defers and the pairs decide: no overlap.
+  for (const double shift : {0.5, 1.0}) {
+    Layout touch = squares;
+    for (int v = 4; v < 8; ++v) touch.uv[v].y() += shift;
+    const OverlapResult touching = overlaps_of(touch);
+    CAPTURE(shift);
+    CHECK_FALSE(touching.overlaps);
+    CHECK_FALSE(touching.proven_by_boundary);
+    CHECK(touching.candidate_pairs > 0);
+  }
   squares.uv[4].x() = squares.uv[7].x() = 1.25;  // apart: proven without pairs
   CHECK(overlaps_of(squares).proven_by_boundary);
   squares.uv[4].x() = squares.uv[7].x() = 0.75;  // overlapping by a quarter of a square
