@@ -317,9 +317,11 @@ void search(const Grid& grid, const Mask& m, int angle, int ex, int ey, Pick& be
 
 ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(chart.triangles), scale_(chart.scale) {
   const std::span<const Vec2> uv = chart.uv;
-  for (const Triangle& t : chart.triangles) used_.insert(used_.end(), t.begin(), t.end());
-  std::sort(used_.begin(), used_.end());
-  used_.erase(std::unique(used_.begin(), used_.end()), used_.end());
+  std::vector<char> in_use(uv.size(), 0);
+  for (const Triangle& t : chart.triangles) in_use[t[0]] = in_use[t[1]] = in_use[t[2]] = 1;
+  for (std::uint32_t v = 0; v < uv.size(); ++v) {
+    if (in_use[v]) used_.push_back(v);
+  }
   // One strict orientation, well clear of rounding: else the triangles are drawn one by one.
   int sign = 0;
   for (const Triangle& t : chart.triangles) {
@@ -333,25 +335,31 @@ ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(cha
   // Vertices at one UV point are one point of the outline (a mesh split along hard edges or
   // seams repeats its vertices; their edges cancel as segments all the same).
   const std::vector<std::uint32_t> point = same_point_representatives(uv, used_);
-  // The outline: directed edges, each segment's two directions cancelled.
-  std::vector<std::pair<std::uint64_t, int>> directed;
-  directed.reserve(3 * chart.triangles.size());
-  for (const Triangle& t : chart.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = point[t[k]];
-      const std::uint32_t b = point[t[(k + 1) % 3]];
-      directed.emplace_back((std::uint64_t{std::min(a, b)} << 32) | std::max(a, b), a < b ? 1 : -1);
+  // The outline: directed edges, each segment's two directions cancelled. The edges are
+  // bucketed by their lower end (a counting sort), each bucket sorted by the higher end.
+  std::vector<std::uint32_t> offset(uv.size() + 1, 0);
+  const auto for_each_edge = [&](auto&& f) {
+    for (const Triangle& t : chart.triangles) {
+      for (int k = 0; k < 3; ++k) f(point[t[k]], point[t[(k + 1) % 3]]);
     }
-  }
-  std::sort(directed.begin(), directed.end());
-  for (std::size_t i = 0; i < directed.size();) {
-    int net = 0;
-    std::size_t j = i;
-    for (; j < directed.size() && directed[j].first == directed[i].first; ++j) net += directed[j].second;
-    const auto lo = static_cast<std::uint32_t>(directed[i].first >> 32);
-    const auto hi = static_cast<std::uint32_t>(directed[i].first);
-    for (int k = 0; k < std::abs(net); ++k) outline_.push_back(net > 0 ? std::array{lo, hi} : std::array{hi, lo});
-    i = j;
+  };
+  for_each_edge([&](std::uint32_t a, std::uint32_t b) { ++offset[std::min(a, b) + 1]; });
+  for (std::size_t v = 0; v < uv.size(); ++v) offset[v + 1] += offset[v];
+  std::vector<std::pair<std::uint32_t, int>> upper(offset.back());  // (higher end, +1 if a < b)
+  std::vector<std::uint32_t> cursor(offset.begin(), offset.end() - 1);
+  for_each_edge([&](std::uint32_t a, std::uint32_t b) {
+    upper[cursor[std::min(a, b)]++] = {std::max(a, b), a < b ? 1 : -1};
+  });
+  for (const std::uint32_t lo : used_) {
+    const auto first = upper.begin() + offset[lo];
+    const auto last = upper.begin() + offset[lo + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last;) {
+      const std::uint32_t hi = it->first;
+      int net = 0;
+      for (; it != last && it->first == hi; ++it) net += it->second;
+      for (int k = 0; k < std::abs(net); ++k) outline_.push_back(net > 0 ? std::array{lo, hi} : std::array{hi, lo});
+    }
   }
   // An outline longer than the triangles are many (a soup of unshared edges) costs more to
   // draw than the triangles themselves.
