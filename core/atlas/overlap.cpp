@@ -178,38 +178,65 @@ bool segments_meet(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
          std::max(std::min(p.y(), q.y()), std::min(r.y(), s.y())) <= std::min(std::max(p.y(), q.y()), std::max(r.y(), s.y()));
 }
 
+// Every triangle's directed edges, listed per tail vertex (CSR).
+struct OutEdges {
+  std::vector<std::uint32_t> offset;  // tail v's heads are head[offset[v] .. offset[v + 1])
+  std::vector<std::uint32_t> head;
+
+  OutEdges(std::size_t nv, std::span<const Triangle> triangles) : offset(nv + 1, 0) {
+    for (const Triangle& t : triangles) {
+      for (int k = 0; k < 3; ++k) ++offset[t[k] + 1];
+    }
+    for (std::size_t v = 0; v < nv; ++v) offset[v + 1] += offset[v];
+    head.resize(offset[nv]);
+    std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+    for (const Triangle& t : triangles) {
+      for (int k = 0; k < 3; ++k) head[fill[t[k]]++] = t[(k + 1) % 3];
+    }
+  }
+  std::size_t vertices() const { return offset.size() - 1; }
+  std::span<const std::uint32_t> out(std::uint32_t v) const {
+    return std::span<const std::uint32_t>(head).subspan(offset[v], offset[v + 1] - offset[v]);
+  }
+  bool has(std::uint32_t a, std::uint32_t b) const { return std::ranges::find(out(a), b) != out(a).end(); }
+};
+
 // The boundary of a consistently oriented triangle set: per vertex, the target of its one
 // boundary edge (a directed edge whose reverse is no triangle's), or kNone. Empty when the set
 // is not such a surface: a directed edge used twice, or a vertex on two boundary edges out or
 // in (a pinch).
 constexpr std::uint32_t kNone = UINT32_MAX;
-std::vector<std::uint32_t> boundary_successors(std::size_t nv, std::span<const Triangle> triangles) {
-  std::vector<std::uint32_t> offset(nv + 1, 0);
-  for (const Triangle& t : triangles) {
-    for (int k = 0; k < 3; ++k) ++offset[t[k] + 1];
-  }
-  for (std::size_t v = 0; v < nv; ++v) offset[v + 1] += offset[v];
-  std::vector<std::uint32_t> out(offset[nv]);
-  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
-  for (const Triangle& t : triangles) {
-    for (int k = 0; k < 3; ++k) out[fill[t[k]]++] = t[(k + 1) % 3];
-  }
-  auto has_edge = [&](std::uint32_t a, std::uint32_t b) {
-    return std::find(out.begin() + offset[a], out.begin() + offset[a + 1], b) != out.begin() + offset[a + 1];
-  };
+std::vector<std::uint32_t> boundary_successors(const OutEdges& edges) {
+  const std::size_t nv = edges.vertices();
   std::vector<std::uint32_t> next(nv, kNone);
   std::vector<char> has_in(nv, 0);
   for (std::uint32_t a = 0; a < nv; ++a) {
-    for (std::uint32_t i = offset[a]; i < offset[a + 1]; ++i) {
+    const std::span<const std::uint32_t> out = edges.out(a);
+    for (std::size_t i = 0; i < out.size(); ++i) {
       const std::uint32_t b = out[i];
-      if (std::find(out.begin() + i + 1, out.begin() + offset[a + 1], b) != out.begin() + offset[a + 1]) return {};
-      if (has_edge(b, a)) continue;
+      if (std::find(out.begin() + i + 1, out.end(), b) != out.end()) return {};
+      if (edges.has(b, a)) continue;
       if (next[a] != kNone || has_in[b]) return {};
       next[a] = b;
       has_in[b] = 1;
     }
   }
   return next;
+}
+
+// The vertices on a directed edge whose reverse no triangle uses, ascending.
+std::vector<std::uint32_t> unpaired_edge_ends(const OutEdges& edges) {
+  std::vector<char> on(edges.vertices(), 0);
+  for (std::uint32_t a = 0; a < edges.vertices(); ++a) {
+    for (const std::uint32_t b : edges.out(a)) {
+      if (!edges.has(b, a)) on[a] = on[b] = 1;
+    }
+  }
+  std::vector<std::uint32_t> ends;
+  for (std::uint32_t v = 0; v < on.size(); ++v) {
+    if (on[v]) ends.push_back(v);
+  }
+  return ends;
 }
 
 // Exact test: the boundary loops (given by `next`) are simple, pairwise disjoint (no two
@@ -296,14 +323,29 @@ bool boundary_loops_disjoint(std::span<const Vec2> uv, const std::vector<std::ui
 // loops are simple, disjoint, turn that way too and are not nested. Then the number of
 // triangles covering a point off the edges is |the winding number of the boundary chain around
 // it| (one per loop holding it: at most 1), so no two interiors meet. False: not proven.
-// Vertices at one point are taken as one (same_point_representatives): the chain and its
-// winding numbers are the same, and a mesh split along hard edges or seams, whose repeated
-// vertices leave coincident boundary edges, gets its true boundary.
+// Vertices at one point are taken as one (same_point_representatives) where they end an edge
+// without its reverse: the chain and its winding numbers are the same (merging equal points
+// never changes them), and a mesh split along hard edges or seams, whose repeated vertices
+// leave coincident boundary edges (or pinches, by index), gets its true boundary. Vertices
+// whose edges all pair up cannot end a boundary edge, so only the others are compared; where
+// none of those share a point, the boundary by index stands.
 bool injective_by_boundary(std::span<const Vec2> uv, std::span<const Triangle> triangles, int turn) {
-  const std::vector<std::uint32_t> point = same_point_representatives(uv);
-  std::vector<Triangle> welded(triangles.begin(), triangles.end());
-  for (Triangle& t : welded) t = {point[t[0]], point[t[1]], point[t[2]]};
-  const std::vector<std::uint32_t> next = boundary_successors(uv.size(), welded);
+  const OutEdges by_index(uv.size(), triangles);
+  std::vector<std::uint32_t> next = boundary_successors(by_index);
+  std::vector<std::uint32_t> ends;
+  if (next.empty()) {
+    ends = unpaired_edge_ends(by_index);
+  } else {
+    for (std::uint32_t v = 0; v < next.size(); ++v) {
+      if (next[v] != kNone) ends.push_back(v);  // a boundary by index is loops: every end starts one
+    }
+  }
+  const std::vector<std::uint32_t> point = same_point_representatives(uv, ends);
+  if (std::ranges::any_of(ends, [&](std::uint32_t v) { return point[v] != v; })) {
+    std::vector<Triangle> welded(triangles.begin(), triangles.end());
+    for (Triangle& t : welded) t = {point[t[0]], point[t[1]], point[t[2]]};
+    next = boundary_successors(OutEdges(uv.size(), welded));
+  }
   if (next.empty()) return false;
   return boundary_loops_disjoint(uv, next, turn, 4 * triangles.size() + 64);
 }
