@@ -180,6 +180,24 @@ TEST_CASE("chart cells: folded or degenerate triangles are drawn one by one, wit
   for (double angle : {0.0, 0.9}) check_against_oracle(folded, 1.0, angle, 0.1);
 }
 
+TEST_CASE("chart cells of randomly jittered grids, folded or not, at random angles and cell sizes") {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int by_outline = 0, by_triangles = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    OwnedChart chart;
+    add_grid(chart, 0, 0, 2.0, 6, trial % 3 == 0 ? 2 : 0);
+    // Jitter up to 0.45 of the spacing keeps every triangle's orientation only sometimes.
+    const double amount = 0.15 * (1 + trial % 4) * (2.0 / 6);
+    for (Vec2& p : chart.uv) p += amount * Vec2(unit(rng) - 0.5, unit(rng) - 0.5) * 2;
+    (ChartCells(chart.view()).by_outline() ? by_outline : by_triangles) += 1;
+    check_against_oracle(chart, 0.5 + unit(rng), 2 * std::numbers::pi * unit(rng), 0.05 + 0.2 * unit(rng));
+  }
+  // Both ways were exercised.
+  CHECK(by_outline > 5);
+  CHECK(by_triangles > 5);
+}
+
 TEST_CASE("chart cells of a real flattened mesh, and random rotations and cell sizes") {
   const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("mushroom");
   const Topology topo = compute_topology(mesh);
