@@ -73,24 +73,33 @@ void mark_polygon(const std::array<Vec2, N>& p, int w, int h, std::vector<std::u
 // respect to the closed chain of directed segments `edges` over points `p` (in cell units).
 // A crossing counts where the segment's half-open y-range [min, max) holds the row's centre
 // line; cells whose centres lie on the chain are marked or not (the chain's own cells are
-// marked apart).
-void fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<const Vec2> p, int w, int h,
-                 std::vector<std::uint8_t>& cells) {
+// marked apart). Returns false, marking nothing, when the chain crosses the rows' centre lines
+// more than `budget` times (a comb of long thin teeth), which would hold that many crossings.
+bool fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<const Vec2> p, int w, int h,
+                 std::size_t budget, std::vector<std::uint8_t>& cells) {
   struct Crossing {
     double x;
     int row;
     int delta;
   };
+  // Rows j with y_lo <= j + 0.5 < y_hi, of the segment's y-range [y_lo, y_hi].
+  const auto rows = [h](double y_lo, double y_hi) {
+    return std::pair{std::max(0, static_cast<int>(std::ceil(y_lo - 0.5))),
+                     std::min(h - 1, static_cast<int>(std::ceil(y_hi - 0.5)) - 1)};
+  };
+  std::size_t count = 0;
+  for (const auto& [s, e] : edges) {
+    const auto [j0, j1] = rows(std::min(p[s].y(), p[e].y()), std::max(p[s].y(), p[e].y()));
+    count += static_cast<std::size_t>(std::max(0, j1 - j0 + 1));
+  }
+  if (count > budget) return false;
   std::vector<Crossing> crossings;
+  crossings.reserve(count);
   for (const auto& [s, e] : edges) {
     const Vec2& a = p[s];
     const Vec2& b = p[e];
     if (a.y() == b.y()) continue;
-    const double y_lo = std::min(a.y(), b.y());
-    const double y_hi = std::max(a.y(), b.y());
-    // Rows j with y_lo <= j + 0.5 < y_hi.
-    const int j0 = std::max(0, static_cast<int>(std::ceil(y_lo - 0.5)));
-    const int j1 = std::min(h - 1, static_cast<int>(std::ceil(y_hi - 0.5)) - 1);
+    const auto [j0, j1] = rows(std::min(a.y(), b.y()), std::max(a.y(), b.y()));
     const double slope = (b.x() - a.x()) / (b.y() - a.y());
     for (int j = j0; j <= j1; ++j) {
       const double x = std::clamp(a.x() + (j + 0.5 - a.y()) * slope, std::min(a.x(), b.x()), std::max(a.x(), b.x()));
@@ -109,6 +118,7 @@ void fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<
     const int i1 = std::min(w - 1, static_cast<int>(std::floor(crossings[k + 1].x - 0.5)));
     if (i0 <= i1) std::fill_n(cells.begin() + static_cast<std::ptrdiff_t>(c.row) * w + i0, i1 - i0 + 1, 1);
   }
+  return true;
 }
 
 // row |= row << k over `words` words (towards higher x; bits beyond the row are dropped).
@@ -384,9 +394,11 @@ ChartCells::Cells ChartCells::cells(double angle, double cell) const {
   out.h = static_cast<int>(std::floor((out.hi.y() - out.lo.y()) / cell)) + 1;
   for (std::uint32_t v : used_) p[v] = (p[v] - out.lo) / cell;
   out.mask.assign(static_cast<std::size_t>(out.w) * out.h, 0);
-  if (by_outline_) {
+  // The crossings of the rows' centre lines are held at once: a few per cell at most, else
+  // (an outline zigzagging across many rows) the triangles are drawn.
+  const std::size_t budget = 4 * out.mask.size() + 64;
+  if (by_outline_ && fill_inside(outline_, p, out.w, out.h, budget, out.mask)) {
     for (const auto& [a, b] : outline_) mark_polygon(std::array{p[a], p[b]}, out.w, out.h, out.mask);
-    fill_inside(outline_, p, out.w, out.h, out.mask);
   } else {
     for (const Triangle& t : triangles_) mark_polygon(std::array{p[t[0]], p[t[1]], p[t[2]]}, out.w, out.h, out.mask);
   }

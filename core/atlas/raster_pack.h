@@ -49,7 +49,9 @@ struct RasterLayout {
 /// sign) the number of triangles covering it, and a cell that meets the chart but not its
 /// outline lies inside it, so both ways give the same cells, overlapping triangles
 /// included: O(V + B * rows + cells) per angle (B outline edges) instead of O(T * rows).
-/// Triangles of mixed or zero orientation (folds, degenerate UVs) are drawn one by one.
+/// Triangles of mixed or zero orientation (folds, degenerate UVs) are drawn one by one, and
+/// so are charts whose outline crosses the rows more than about 4 times per cell (a comb of
+/// long thin teeth), whose crossings would not fit the mask's memory.
 class ChartCells {
  public:
   /// O(T log T): the outline (directed edges sorted and cancelled) and the vertices in use.

@@ -198,6 +198,32 @@ TEST_CASE("chart cells of randomly jittered grids, folded or not, at random angl
   CHECK(by_triangles > 5);
 }
 
+TEST_CASE("chart cells of a comb of thin teeth, whose outline crosses every row many times") {
+  // 200 teeth 0.01 wide and 2 tall on a strip of two rows: one orientation, an outline shorter
+  // than the triangles, and ~20 crossings per cell at cells of 0.1 (drawn triangle by
+  // triangle); the cells are still those the triangles touch.
+  OwnedChart comb;
+  const int teeth = 200;
+  const double d = 0.01;
+  auto at = [&](int row, int i) { return static_cast<std::uint32_t>(row * (teeth + 1) + i); };
+  for (int row = 0; row < 3; ++row) {
+    for (int i = 0; i <= teeth; ++i) comb.uv.emplace_back(i * d, (row - 2) * d);
+  }
+  for (int row = 0; row < 2; ++row) {
+    for (int i = 0; i < teeth; ++i) {
+      comb.triangles.push_back({at(row, i), at(row, i + 1), at(row + 1, i + 1)});
+      comb.triangles.push_back({at(row, i), at(row + 1, i + 1), at(row + 1, i)});
+    }
+  }
+  for (int i = 0; i < teeth; ++i) {
+    comb.uv.emplace_back((i + 0.5) * d, 2.0);
+    comb.triangles.push_back({at(2, i), at(2, i + 1), static_cast<std::uint32_t>(comb.uv.size() - 1)});
+  }
+  REQUIRE(ChartCells(comb.view()).by_outline());
+  check_against_oracle(comb, 1.0, 0.0, 0.1);
+  check_against_oracle(comb, 1.0, 0.2, 0.1);
+}
+
 TEST_CASE("chart cells of a real flattened mesh, and random rotations and cell sizes") {
   const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("mushroom");
   const Topology topo = compute_topology(mesh);
