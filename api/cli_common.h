@@ -46,6 +46,7 @@ struct ParsedArgs {
 ApiResult<ParsedArgs> parse_args(int argc, char** argv, const std::vector<OwnFlag>& own_flags);
 
 /// Sets `canonical` from a positional, refusing it when a flag already set it.
+/// Errors: kInvalidParameter (details.parameter = `canonical`) naming both, when it is given twice.
 std::optional<ApiError> set_positional(ParsedArgs& args, const std::string& canonical, const std::string& value,
                                        const std::string& what);
 

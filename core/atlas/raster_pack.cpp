@@ -44,12 +44,30 @@ void clip_to_row(const Vec2& a, const Vec2& b, int j, double& x_lo, double& x_hi
   }
 }
 
-// Marks the cells of a w x h byte grid (unit cells) that the closed polygon `p` (a triangle,
+// Sets cells i0..i1 (inclusive) of row j.
+void set_cells(ChartCells::Cells& c, int j, int i0, int i1) {
+  std::uint64_t* row = &c.bits[static_cast<std::size_t>(j) * c.words];
+  const int k0 = i0 / 64;
+  const int k1 = i1 / 64;
+  const std::uint64_t first = ~std::uint64_t{0} << (i0 % 64);
+  const std::uint64_t last = ~std::uint64_t{0} >> (63 - i1 % 64);
+  if (k0 == k1) {
+    row[k0] |= first & last;
+    return;
+  }
+  row[k0] |= first;
+  for (int k = k0 + 1; k < k1; ++k) row[k] = ~std::uint64_t{0};
+  row[k1] |= last;
+}
+
+// Marks the cells of grid `c` (unit cells) that the closed polygon `p` (a triangle,
 // or a segment as two points) touches. Row by row: its part within the row's slab is convex,
 // so it touches exactly the cells its x-extent meets; the extent comes from the edges clipped
 // to the slab. Degenerate triangles (segments) are handled alike.
 template <std::size_t N>
-void mark_polygon(const std::array<Vec2, N>& p, int w, int h, std::vector<std::uint8_t>& cells) {
+void mark_polygon(const std::array<Vec2, N>& p, ChartCells::Cells& c) {
+  const int w = c.w;
+  const int h = c.h;
   Vec2 lo = p[0];
   Vec2 hi = p[0];
   for (const Vec2& v : p) {
@@ -65,18 +83,20 @@ void mark_polygon(const std::array<Vec2, N>& p, int w, int h, std::vector<std::u
     if (x_lo > x_hi) continue;
     const int i0 = std::clamp(static_cast<int>(std::floor(x_lo - kEps)), 0, w - 1);
     const int i1 = std::clamp(static_cast<int>(std::floor(x_hi + kEps)), 0, w - 1);
-    std::fill_n(cells.begin() + static_cast<std::ptrdiff_t>(j) * w + i0, i1 - i0 + 1, 1);
+    set_cells(c, j, i0, i1);
   }
 }
 
-// Marks the cells of a w x h byte grid whose centre has a non-zero winding number with
+// Marks the cells of grid `c` whose centre has a non-zero winding number with
 // respect to the closed chain of directed segments `edges` over points `p` (in cell units).
 // A crossing counts where the segment's half-open y-range [min, max) holds the row's centre
 // line; cells whose centres lie on the chain are marked or not (the chain's own cells are
 // marked apart). Returns false, marking nothing, when the chain crosses the rows' centre lines
 // more than `budget` times (a comb of long thin teeth), which would hold that many crossings.
-bool fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<const Vec2> p, int w, int h,
-                 std::size_t budget, std::vector<std::uint8_t>& cells) {
+bool fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<const Vec2> p, std::size_t budget,
+                 ChartCells::Cells& c) {
+  const int w = c.w;
+  const int h = c.h;
   struct Crossing {
     double x;
     int row;
@@ -110,13 +130,13 @@ bool fill_inside(std::span<const std::array<std::uint32_t, 2>> edges, std::span<
             [](const Crossing& u, const Crossing& v) { return u.row != v.row ? u.row < v.row : u.x < v.x; });
   int winding = 0;
   for (std::size_t k = 0; k < crossings.size(); ++k) {
-    const Crossing& c = crossings[k];
-    winding += c.delta;
-    if (winding == 0 || k + 1 == crossings.size() || crossings[k + 1].row != c.row) continue;
-    // Centres i + 0.5 in [c.x, next.x].
-    const int i0 = std::max(0, static_cast<int>(std::ceil(c.x - 0.5)));
+    const Crossing& here = crossings[k];
+    winding += here.delta;
+    if (winding == 0 || k + 1 == crossings.size() || crossings[k + 1].row != here.row) continue;
+    // Centres i + 0.5 in [here.x, next.x].
+    const int i0 = std::max(0, static_cast<int>(std::ceil(here.x - 0.5)));
     const int i1 = std::min(w - 1, static_cast<int>(std::floor(crossings[k + 1].x - 0.5)));
-    if (i0 <= i1) std::fill_n(cells.begin() + static_cast<std::ptrdiff_t>(c.row) * w + i0, i1 - i0 + 1, 1);
+    if (i0 <= i1) set_cells(c, here.row, i0, i1);
   }
   return true;
 }
@@ -152,16 +172,15 @@ int nth_set(const std::uint64_t* row, int words, std::size_t rank) {
 // words: cell (x, y) of the (w + 2g) x (h + 2g) mask is set when some cell (x', y') of `c`
 // with x - 2g <= x' <= x and y - 2g <= y' <= y is. Rows are packed into words, then grown
 // along x by shifted ORs (windows doubling to 2g + 1 bits) and along y alike over rows;
-// then the row spans and the probes.
+// then the row spans and the probes. m.words >= c.words: the grown rows are wider.
 void grow_into(const ChartCells::Cells& c, int g, Mask& m) {
   m.w = c.w + 2 * g;
   m.h = c.h + 2 * g;
   m.words = (m.w + 63) / 64;
   m.bits.assign(static_cast<std::size_t>(m.h) * m.words, 0);
   for (int y = 0; y < c.h; ++y) {
-    const std::uint8_t* in = &c.mask[static_cast<std::size_t>(y) * c.w];
-    std::uint64_t* row = &m.bits[static_cast<std::size_t>(y) * m.words];
-    for (int x = 0; x < c.w; ++x) row[x / 64] |= std::uint64_t{in[x]} << (x % 64);
+    std::copy_n(&c.bits[static_cast<std::size_t>(y) * c.words], c.words,
+                &m.bits[static_cast<std::size_t>(y) * m.words]);
   }
   const int window = 2 * g + 1;
   int len = 1;
@@ -393,14 +412,15 @@ ChartCells::Cells ChartCells::cells(double angle, double cell) const {
   out.w = static_cast<int>(std::floor((out.hi.x() - out.lo.x()) / cell)) + 1;
   out.h = static_cast<int>(std::floor((out.hi.y() - out.lo.y()) / cell)) + 1;
   for (std::uint32_t v : used_) p[v] = (p[v] - out.lo) / cell;
-  out.mask.assign(static_cast<std::size_t>(out.w) * out.h, 0);
+  out.words = (out.w + 63) / 64;
+  out.bits.assign(static_cast<std::size_t>(out.h) * out.words, 0);
   // The crossings of the rows' centre lines are held at once: a few per cell at most, else
   // (an outline zigzagging across many rows) the triangles are drawn.
-  const std::size_t budget = 4 * out.mask.size() + 64;
-  if (by_outline_ && fill_inside(outline_, p, out.w, out.h, budget, out.mask)) {
-    for (const auto& [a, b] : outline_) mark_polygon(std::array{p[a], p[b]}, out.w, out.h, out.mask);
+  const std::size_t budget = 4 * static_cast<std::size_t>(out.w) * out.h + 64;
+  if (by_outline_ && fill_inside(outline_, p, budget, out)) {
+    for (const auto& [a, b] : outline_) mark_polygon(std::array{p[a], p[b]}, out);
   } else {
-    for (const Triangle& t : triangles_) mark_polygon(std::array{p[t[0]], p[t[1]], p[t[2]]}, out.w, out.h, out.mask);
+    for (const Triangle& t : triangles_) mark_polygon(std::array{p[t[0]], p[t[1]], p[t[2]]}, out);
   }
   return out;
 }

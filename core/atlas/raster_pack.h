@@ -63,7 +63,9 @@ class ChartCells {
     int h = 0;                       ///< cells up
     Vec2 lo = Vec2::Zero();          ///< the rotated chart's bounding box; cell (0, 0)'s
     Vec2 hi = Vec2::Zero();          ///< lower-left corner is lo
-    std::vector<std::uint8_t> mask;  ///< w * h, row by row: 1 where the chart touches
+    int words = 0;                   ///< 64-bit words per row
+    std::vector<std::uint64_t> bits;  ///< h rows of `words`: bit x % 64 of word x / 64 is cell x
+    bool at(int x, int y) const { return (bits[static_cast<std::size_t>(y) * words + x / 64] >> (x % 64)) & 1; }
   };
   /// The chart's points scale * uv rotated counter-clockwise by `angle`, on cells of side `cell`.
   Cells cells(double angle, double cell) const;

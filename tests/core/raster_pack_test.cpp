@@ -86,7 +86,8 @@ bool meets(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& lo, const Ve
 void check_against_oracle(const OwnedChart& chart, double scale, double angle, double cell) {
   const ChartCells cells(chart.view(scale));
   const ChartCells::Cells got = cells.cells(angle, cell);
-  REQUIRE(got.mask.size() == static_cast<std::size_t>(got.w) * got.h);
+  REQUIRE(got.words == (got.w + 63) / 64);
+  REQUIRE(got.bits.size() == static_cast<std::size_t>(got.words) * got.h);
   const double c = std::cos(angle), s = std::sin(angle);
   std::vector<Vec2> p;
   for (const Vec2& q : chart.uv) p.emplace_back(scale * (c * q.x() - s * q.y()), scale * (s * q.x() + c * q.y()));
@@ -109,7 +110,7 @@ void check_against_oracle(const OwnedChart& chart, double scale, double angle, d
         overlaps = overlaps || meets(p[t[0]], p[t[1]], p[t[2]], lo, hi, -1e-6 * cell);
         if (overlaps) break;
       }
-      const bool set = got.mask[static_cast<std::size_t>(j) * got.w + i] != 0;
+      const bool set = got.at(i, j);
       marked += set;
       missed += overlaps && !set;
       spurious += set && !near;
@@ -157,7 +158,7 @@ TEST_CASE("chart cells: a mesh split at every edge has the outline of the welded
     const auto b = soup_cells.cells(angle, 0.11);
     CHECK(a.w == b.w);
     CHECK(a.h == b.h);
-    CHECK(a.mask == b.mask);
+    CHECK(a.bits == b.bits);
   }
 }
 
@@ -171,7 +172,7 @@ TEST_CASE("chart cells: folded or degenerate triangles are drawn one by one, wit
   const ChartCells sliver(with_sliver.view());
   REQUIRE(plain.by_outline());
   CHECK_FALSE(sliver.by_outline());
-  for (double angle : {0.0, 0.4, 2.5}) CHECK(plain.cells(angle, 0.07).mask == sliver.cells(angle, 0.07).mask);
+  for (double angle : {0.0, 0.4, 2.5}) CHECK(plain.cells(angle, 0.07).bits == sliver.cells(angle, 0.07).bits);
 
   // A fold: one vertex pulled across its neighbours flips triangles; the oracle still holds.
   OwnedChart folded = grid;
