@@ -193,22 +193,25 @@ MinAreaRect landscape(MinAreaRect r) {
   return r;
 }
 
-// Boundary edges of a chart (edges used by one triangle), as point pairs through `map`.
+// The segments that bound a chart, as point pairs through `map`: its outline where all its
+// triangles turn one way (detail::chart_outline), else every edge of its triangles once (a
+// fold can reach past the edges used by one triangle). Either way the chart's lowest and
+// highest points in any column lie on them.
 template <class F>
 std::vector<std::array<Vec2, 2>> boundary_segments(const PackChart& chart, F&& map) {
+  std::vector<std::array<Vec2, 2>> out;
+  if (const auto outline = detail::chart_outline(chart.uv, chart.triangles)) {
+    for (const auto& [a, b] : *outline) out.push_back({map(chart.uv[a]), map(chart.uv[b])});
+    return out;
+  }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
   edges.reserve(3 * chart.triangles.size());
   for (const Triangle& t : chart.triangles) {
     for (int k = 0; k < 3; ++k) edges.emplace_back(std::minmax(t[k], t[(k + 1) % 3]));
   }
   std::sort(edges.begin(), edges.end());
-  std::vector<std::array<Vec2, 2>> out;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) out.push_back({map(chart.uv[edges[i].first]), map(chart.uv[edges[i].second])});
-    i = j;
-  }
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (const auto& [a, b] : edges) out.push_back({map(chart.uv[a]), map(chart.uv[b])});
   return out;
 }
 

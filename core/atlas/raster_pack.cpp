@@ -344,31 +344,29 @@ void search(const Grid& grid, const Mask& m, int angle, int ex, int ey, Pick& be
 
 }  // namespace
 
-ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(chart.triangles), scale_(chart.scale) {
-  const std::span<const Vec2> uv = chart.uv;
-  std::vector<char> in_use(uv.size(), 0);
-  for (const Triangle& t : chart.triangles) in_use[t[0]] = in_use[t[1]] = in_use[t[2]] = 1;
-  for (std::uint32_t v = 0; v < uv.size(); ++v) {
-    if (in_use[v]) used_.push_back(v);
-  }
-  // One strict orientation, well clear of rounding: else the triangles are drawn one by one.
-  int sign = 0;
-  for (const Triangle& t : chart.triangles) {
+std::optional<std::vector<std::array<std::uint32_t, 2>>> chart_outline(std::span<const Vec2> uv,
+                                                                       std::span<const Triangle> triangles) {
+  for (int sign = 0; const Triangle& t : triangles) {
     const Vec2 ab = uv[t[1]] - uv[t[0]];
     const Vec2 ac = uv[t[2]] - uv[t[0]];
     const double cross = ab.x() * ac.y() - ab.y() * ac.x();
-    const int s = cross > 1e-12 * ab.norm() * ac.norm() ? 1 : cross < -1e-12 * ab.norm() * ac.norm() ? -1 : 0;
-    if (s == 0 || (sign != 0 && s != sign)) return;
+    const double clear = 1e-12 * ab.norm() * ac.norm();
+    const int s = cross > clear ? 1 : cross < -clear ? -1 : 0;
+    if (s == 0 || (sign != 0 && s != sign)) return std::nullopt;
     sign = s;
   }
-  // Vertices at one UV point are one point of the outline (a mesh split along hard edges or
-  // seams repeats its vertices; their edges cancel as segments all the same).
-  const std::vector<std::uint32_t> point = same_point_representatives(uv, used_);
-  // The outline: directed edges, each segment's two directions cancelled. The edges are
-  // bucketed by their lower end (a counting sort), each bucket sorted by the higher end.
+  std::vector<char> in_use(uv.size(), 0);
+  for (const Triangle& t : triangles) in_use[t[0]] = in_use[t[1]] = in_use[t[2]] = 1;
+  std::vector<std::uint32_t> used;
+  for (std::uint32_t v = 0; v < uv.size(); ++v) {
+    if (in_use[v]) used.push_back(v);
+  }
+  const std::vector<std::uint32_t> point = same_point_representatives(uv, used);
+  // Directed edges bucketed by their lower end (a counting sort), each bucket sorted by the
+  // higher end; each segment's two directions cancel.
   std::vector<std::uint32_t> offset(uv.size() + 1, 0);
   const auto for_each_edge = [&](auto&& f) {
-    for (const Triangle& t : chart.triangles) {
+    for (const Triangle& t : triangles) {
       for (int k = 0; k < 3; ++k) f(point[t[k]], point[t[(k + 1) % 3]]);
     }
   };
@@ -379,7 +377,8 @@ ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(cha
   for_each_edge([&](std::uint32_t a, std::uint32_t b) {
     upper[cursor[std::min(a, b)]++] = {std::max(a, b), a < b ? 1 : -1};
   });
-  for (const std::uint32_t lo : used_) {
+  std::vector<std::array<std::uint32_t, 2>> outline;
+  for (const std::uint32_t lo : used) {
     const auto first = upper.begin() + offset[lo];
     const auto last = upper.begin() + offset[lo + 1];
     std::sort(first, last);
@@ -387,13 +386,23 @@ ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(cha
       const std::uint32_t hi = it->first;
       int net = 0;
       for (; it != last && it->first == hi; ++it) net += it->second;
-      for (int k = 0; k < std::abs(net); ++k) outline_.push_back(net > 0 ? std::array{lo, hi} : std::array{hi, lo});
+      for (int k = 0; k < std::abs(net); ++k) outline.push_back(net > 0 ? std::array{lo, hi} : std::array{hi, lo});
     }
+  }
+  return outline;
+}
+
+ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(chart.triangles), scale_(chart.scale) {
+  std::vector<char> in_use(uv_.size(), 0);
+  for (const Triangle& t : triangles_) in_use[t[0]] = in_use[t[1]] = in_use[t[2]] = 1;
+  for (std::uint32_t v = 0; v < uv_.size(); ++v) {
+    if (in_use[v]) used_.push_back(v);
   }
   // An outline longer than the triangles are many (a soup of unshared edges) costs more to
   // draw than the triangles themselves.
-  by_outline_ = outline_.size() <= chart.triangles.size();
-  if (!by_outline_) outline_.clear();
+  auto outline = chart_outline(uv_, triangles_);
+  by_outline_ = outline && outline->size() <= triangles_.size();
+  if (by_outline_) outline_ = std::move(*outline);
 }
 
 ChartCells::Cells ChartCells::cells(double angle, double cell) const {

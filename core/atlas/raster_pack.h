@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -36,6 +37,17 @@ struct RasterLayout {
   double side = std::numeric_limits<double>::infinity();  ///< infinity: the charts did not fit
   std::vector<PlacedChart> slots;                           ///< one per chart, in input order
 };
+
+/// The outline of a chart whose triangles all turn one way, strictly (signed area beyond
+/// 1e-12 of the product of two edge lengths): its directed edges whose two directions do not
+/// cancel, each as often as its net count, with vertices at one UV point taken as one
+/// (same_point_representatives: a mesh split along hard edges or seams repeats its vertices).
+/// Every point where the chart's triangles end lies on it, and the winding number of the
+/// outline around a point is (up to sign) the number of triangles over it. nullopt when some
+/// triangle turns the other way or has no area: a fold may then reach past any outline.
+/// Indices are into `uv`. O(T + V log V) for T triangles, V vertices in use.
+std::optional<std::vector<std::array<std::uint32_t, 2>>> chart_outline(std::span<const Vec2> uv,
+                                                                       std::span<const Triangle> triangles);
 
 /// The cells of a grid (unit cells of side `cell`) that a chart, rotated by an angle, touches:
 /// each closed triangle marks every closed cell it meets (to within 1e-9 of a cell), so a

@@ -375,6 +375,44 @@ TEST_CASE("real flattened CGAL charts packed together: no UV point covered twice
   pack_checked(charts, {}, 2047);
 }
 
+TEST_CASE("a chart folded past the edges its triangles use once is packed by its triangles") {
+  // A unit square with a flap folded out past its top edge: the flap's triangle and its mirror
+  // share all their edges, so the edges used once are the square's alone, and a packer that
+  // read the chart's shape from them left the flap out and put other charts under it (found by
+  // atlas_fuzz). Beside it, small squares that fill whatever room the packers see.
+  OwnedChart folded;
+  folded.uv = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1), Vec2(0.5, 1.6)};
+  folded.triangles = {{0, 1, 2}, {0, 2, 3}, {3, 2, 4}, {3, 4, 2}};
+  folded.surface_area = 1.6;
+  std::vector<OwnedChart> charts = {folded};
+  for (int k = 0; k < 6; ++k) charts.push_back(grid_chart(0.3, 0.25, 0.1 * k, Vec2::Zero(), 1.0, 1));
+  for (const bool rotate : {true, false}) {
+    PackOptions o;
+    o.rotate = rotate;
+    auto r = pack_charts(views(charts), o);
+    REQUIRE(r.ok());
+    std::vector<Vec2> uv;
+    std::vector<Triangle> triangles;
+    std::vector<std::uint32_t> chart_of;
+    for (std::size_t c = 0; c < charts.size(); ++c) {
+      const auto base = static_cast<std::uint32_t>(uv.size());
+      for (const Vec2& p : charts[c].uv) {
+        uv.push_back(r->placements[c].apply(p));
+        CHECK(uv.back().minCoeff() >= 0);
+        CHECK(uv.back().maxCoeff() <= 1);
+      }
+      for (const Triangle& t : charts[c].triangles) {
+        triangles.push_back({base + t[0], base + t[1], base + t[2]});
+        chart_of.push_back(static_cast<std::uint32_t>(c));
+      }
+    }
+    auto overlap = find_overlaps(uv, triangles, chart_of);
+    REQUIRE(overlap.ok());
+    CAPTURE(rotate);
+    CHECK(overlap->between_charts_area == 0);
+  }
+}
+
 TEST_CASE("pack refuses bad options and malformed charts with typed errors") {
   std::vector<OwnedChart> charts{grid_chart(1, 1, 0, Vec2::Zero(), 1)};
   CHECK(pack_charts(views(charts), {.texture_size = 8}).error().code == ErrorCode::kInvalidArgument);
