@@ -22,7 +22,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build/fuzz"
 jobs="${SEAM_JOBS:-2}"
-read -r -a targets <<<"${SEAM_FUZZ_TARGETS:-gltf_fuzz http_head_fuzz request_fuzz multipart_fuzz}"
+read -r -a targets <<<"${SEAM_FUZZ_TARGETS:-gltf_fuzz http_head_fuzz request_fuzz multipart_fuzz atlas_fuzz}"
 
 campaign=0
 minimize_only=0
