@@ -194,21 +194,34 @@ MinAreaRect landscape(MinAreaRect r) {
 }
 
 // The segments that bound a chart, as point pairs through `map`: its outline where all its
-// triangles turn one way (detail::chart_outline), else every edge of its triangles once (a
-// fold can reach past the edges used by one triangle). Either way the chart's lowest and
-// highest points in any column lie on them.
+// triangles turn one way (detail::chart_outline). Otherwise (a fold can reach past the edges
+// used by one triangle) the outline of the triangles that turn the way most do, and every
+// edge of the others once: the union of the triangles ends on those too. Either way the
+// chart's lowest and highest points in any column lie on them, and a few flipped triangles
+// add a few segments, not all of the chart's edges.
 template <class F>
 std::vector<std::array<Vec2, 2>> boundary_segments(const PackChart& chart, F&& map) {
   std::vector<std::array<Vec2, 2>> out;
+  const auto add = [&](const std::vector<std::array<std::uint32_t, 2>>& outline) {
+    for (const auto& [a, b] : outline) out.push_back({map(chart.uv[a]), map(chart.uv[b])});
+  };
   if (const auto outline = detail::chart_outline(chart.uv, chart.triangles)) {
-    for (const auto& [a, b] : *outline) out.push_back({map(chart.uv[a]), map(chart.uv[b])});
+    add(*outline);
     return out;
   }
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  edges.reserve(3 * chart.triangles.size());
+  int balance = 0;  // counter-clockwise minus clockwise
+  for (const Triangle& t : chart.triangles) balance += detail::strict_turn(chart.uv, t);
+  const int most = balance >= 0 ? 1 : -1;
+  std::vector<Triangle> majority;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // of the other triangles
   for (const Triangle& t : chart.triangles) {
+    if (detail::strict_turn(chart.uv, t) == most) {
+      majority.push_back(t);
+      continue;
+    }
     for (int k = 0; k < 3; ++k) edges.emplace_back(std::minmax(t[k], t[(k + 1) % 3]));
   }
+  if (const auto outline = detail::chart_outline(chart.uv, majority)) add(*outline);
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   for (const auto& [a, b] : edges) out.push_back({map(chart.uv[a]), map(chart.uv[b])});

@@ -344,14 +344,18 @@ void search(const Grid& grid, const Mask& m, int angle, int ex, int ey, Pick& be
 
 }  // namespace
 
+int strict_turn(std::span<const Vec2> uv, const Triangle& t) {
+  const Vec2 ab = uv[t[1]] - uv[t[0]];
+  const Vec2 ac = uv[t[2]] - uv[t[0]];
+  const double cross = ab.x() * ac.y() - ab.y() * ac.x();
+  const double clear = 1e-12 * ab.norm() * ac.norm();
+  return cross > clear ? 1 : cross < -clear ? -1 : 0;
+}
+
 std::optional<std::vector<std::array<std::uint32_t, 2>>> chart_outline(std::span<const Vec2> uv,
                                                                        std::span<const Triangle> triangles) {
   for (int sign = 0; const Triangle& t : triangles) {
-    const Vec2 ab = uv[t[1]] - uv[t[0]];
-    const Vec2 ac = uv[t[2]] - uv[t[0]];
-    const double cross = ab.x() * ac.y() - ab.y() * ac.x();
-    const double clear = 1e-12 * ab.norm() * ac.norm();
-    const int s = cross > clear ? 1 : cross < -clear ? -1 : 0;
+    const int s = strict_turn(uv, t);
     if (s == 0 || (sign != 0 && s != sign)) return std::nullopt;
     sign = s;
   }

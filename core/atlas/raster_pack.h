@@ -38,9 +38,12 @@ struct RasterLayout {
   std::vector<PlacedChart> slots;                           ///< one per chart, in input order
 };
 
-/// The outline of a chart whose triangles all turn one way, strictly (signed area beyond
-/// 1e-12 of the product of two edge lengths): its directed edges whose two directions do not
-/// cancel, each as often as its net count, with vertices at one UV point taken as one
+/// +1 or -1 as triangle t turns counter-clockwise or clockwise in `uv`, strictly: its signed
+/// area beyond 1e-12 of the product of two edge lengths (clear of rounding); else 0.
+int strict_turn(std::span<const Vec2> uv, const Triangle& t);
+
+/// The outline of a chart whose triangles all turn one way, strictly (strict_turn): its directed edges whose two
+/// directions do not cancel, each as often as its net count, with vertices at one UV point taken as one
 /// (same_point_representatives: a mesh split along hard edges or seams repeats its vertices).
 /// Every point where the chart's triangles end lies on it, and the winding number of the
 /// outline around a point is (up to sign) the number of triangles over it. nullopt when some
