@@ -2,7 +2,6 @@
 #include "api/primitive_job.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>

@@ -2,7 +2,6 @@
 #include "api/surface.h"
 
 #include <algorithm>
-#include <chrono>
 #include <limits>
 #include <numeric>
 #include <utility>

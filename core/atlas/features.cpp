@@ -1,6 +1,5 @@
 #include "core/atlas/features.h"
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>

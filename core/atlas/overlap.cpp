@@ -1,7 +1,6 @@
 #include "core/atlas/overlap.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>

@@ -1,7 +1,6 @@
 #include "core/atlas/pack.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>

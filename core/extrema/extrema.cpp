@@ -1,7 +1,6 @@
 #include "core/extrema/extrema.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>

@@ -28,7 +28,6 @@
 #include "core/seam/seam.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 

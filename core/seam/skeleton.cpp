@@ -1,6 +1,5 @@
 #include "core/seam/skeleton.h"
 
-#include <chrono>
 #include <exception>
 #include <functional>
 #include <optional>

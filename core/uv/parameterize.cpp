@@ -1,7 +1,6 @@
 #include "core/uv/parameterize.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <optional>
