@@ -208,13 +208,14 @@ std::vector<std::array<Vec2, 2>> boundary_segments(const PackChart& chart, F&& m
     add(*outline);
     return out;
   }
-  int balance = 0;  // counter-clockwise minus clockwise
-  for (const Triangle& t : chart.triangles) balance += detail::strict_turn(chart.uv, t);
-  const int most = balance >= 0 ? 1 : -1;
+  std::vector<int> turn(chart.triangles.size());
+  for (std::size_t i = 0; i < turn.size(); ++i) turn[i] = detail::strict_turn(chart.uv, chart.triangles[i]);
+  const int most = std::accumulate(turn.begin(), turn.end(), 0) >= 0 ? 1 : -1;  // ccw minus cw
   std::vector<Triangle> majority;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // of the other triangles
-  for (const Triangle& t : chart.triangles) {
-    if (detail::strict_turn(chart.uv, t) == most) {
+  for (std::size_t i = 0; i < turn.size(); ++i) {
+    const Triangle& t = chart.triangles[i];
+    if (turn[i] == most) {
       majority.push_back(t);
       continue;
     }

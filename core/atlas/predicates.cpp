@@ -81,7 +81,6 @@ std::vector<std::uint32_t> same_point_representatives(std::span<const Vec2> uv,
   std::vector<std::uint32_t> out(uv.size());
   std::iota(out.begin(), out.end(), std::uint32_t{0});
   std::vector<std::uint32_t> order(vertices.begin(), vertices.end());
-  if (vertices.empty()) order = out;
   const auto before = [&](std::uint32_t a, std::uint32_t b) {
     return uv[a].x() != uv[b].x() ? uv[a].x() < uv[b].x() : uv[a].y() < uv[b].y();
   };

@@ -17,11 +17,11 @@ namespace seam::core {
 /// evaluated exactly as a floating-point expansion (two-sum, FMA two-product). O(1).
 int orient2d(const Vec2& a, const Vec2& b, const Vec2& c);
 
-/// One vertex for each point: out[v] is the lowest index among `vertices` (indices into uv;
-/// empty: all of uv) whose coordinates equal v's exactly (-0 equals 0); out[v] = v for every
-/// v not listed. A mesh split along hard edges or seams repeats its vertices, and with this map
+/// One vertex for each point: out[v] is the lowest index among `vertices` (indices into uv)
+/// whose coordinates equal v's exactly (-0 equals 0); out[v] = v for every v not listed (so
+/// an empty list changes nothing). A mesh split along hard edges or seams repeats its vertices, and with this map
 /// their edges are one segment (boundary and outline tests). O(n log n), n = vertices listed.
 std::vector<std::uint32_t> same_point_representatives(std::span<const Vec2> uv,
-                                                      std::span<const std::uint32_t> vertices = {});
+                                                      std::span<const std::uint32_t> vertices);
 
 }  // namespace seam::core

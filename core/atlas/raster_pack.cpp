@@ -342,6 +342,17 @@ void search(const Grid& grid, const Mask& m, int angle, int ex, int ey, Pick& be
   }
 }
 
+// The vertices (< nv) that the triangles use, ascending.
+std::vector<std::uint32_t> vertices_in_use(std::size_t nv, std::span<const Triangle> triangles) {
+  std::vector<char> in_use(nv, 0);
+  for (const Triangle& t : triangles) in_use[t[0]] = in_use[t[1]] = in_use[t[2]] = 1;
+  std::vector<std::uint32_t> used;
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (in_use[v]) used.push_back(v);
+  }
+  return used;
+}
+
 }  // namespace
 
 int strict_turn(std::span<const Vec2> uv, const Triangle& t) {
@@ -359,12 +370,7 @@ std::optional<std::vector<std::array<std::uint32_t, 2>>> chart_outline(std::span
     if (s == 0 || (sign != 0 && s != sign)) return std::nullopt;
     sign = s;
   }
-  std::vector<char> in_use(uv.size(), 0);
-  for (const Triangle& t : triangles) in_use[t[0]] = in_use[t[1]] = in_use[t[2]] = 1;
-  std::vector<std::uint32_t> used;
-  for (std::uint32_t v = 0; v < uv.size(); ++v) {
-    if (in_use[v]) used.push_back(v);
-  }
+  const std::vector<std::uint32_t> used = vertices_in_use(uv.size(), triangles);
   const std::vector<std::uint32_t> point = same_point_representatives(uv, used);
   // Directed edges bucketed by their lower end (a counting sort), each bucket sorted by the
   // higher end; each segment's two directions cancel.
@@ -396,12 +402,11 @@ std::optional<std::vector<std::array<std::uint32_t, 2>>> chart_outline(std::span
   return outline;
 }
 
-ChartCells::ChartCells(const RasterChart& chart) : uv_(chart.uv), triangles_(chart.triangles), scale_(chart.scale) {
-  std::vector<char> in_use(uv_.size(), 0);
-  for (const Triangle& t : triangles_) in_use[t[0]] = in_use[t[1]] = in_use[t[2]] = 1;
-  for (std::uint32_t v = 0; v < uv_.size(); ++v) {
-    if (in_use[v]) used_.push_back(v);
-  }
+ChartCells::ChartCells(const RasterChart& chart)
+    : uv_(chart.uv),
+      triangles_(chart.triangles),
+      scale_(chart.scale),
+      used_(vertices_in_use(chart.uv.size(), chart.triangles)) {
   // An outline longer than the triangles are many (a soup of unshared edges) costs more to
   // draw than the triangles themselves.
   auto outline = chart_outline(uv_, triangles_);

@@ -87,8 +87,10 @@ TEST_CASE("orient2d agrees with exact integer arithmetic where the naive formula
 
 TEST_CASE("same_point_representatives: the lowest listed index at each exact point") {
   const std::vector<Vec2> uv = {Vec2(1, 2), Vec2(0, 0), Vec2(1, 2), Vec2(-0.0, 0), Vec2(1, 2 + 1e-15), Vec2(1, 2)};
-  const std::vector<std::uint32_t> all = same_point_representatives(uv);
-  CHECK(all == std::vector<std::uint32_t>{0, 1, 0, 1, 4, 0});  // -0 is 0; 1e-15 apart is apart
+  const std::vector<std::uint32_t> every = {0, 1, 2, 3, 4, 5};
+  CHECK(same_point_representatives(uv, every) ==
+        std::vector<std::uint32_t>{0, 1, 0, 1, 4, 0});  // -0 is 0; 1e-15 apart is apart
+  CHECK(same_point_representatives(uv, {}) == every);   // nothing listed, nothing merged
   // Only the listed vertices take part; the others map to themselves.
   const std::vector<std::uint32_t> listed = {5, 2, 3};
   CHECK(same_point_representatives(uv, listed) == std::vector<std::uint32_t>{0, 1, 2, 3, 4, 2});
