@@ -204,7 +204,6 @@ struct OutEdges {
 // boundary edge (a directed edge whose reverse is no triangle's), or kNone. Empty when the set
 // is not such a surface: a directed edge used twice, or a vertex on two boundary edges out or
 // in (a pinch).
-constexpr std::uint32_t kNone = UINT32_MAX;
 std::vector<std::uint32_t> boundary_successors(const OutEdges& edges) {
   const std::size_t nv = edges.vertices();
   std::vector<std::uint32_t> next(nv, kNone);

@@ -15,10 +15,6 @@ namespace seam::core {
 
 namespace {
 
-double cross2(const Vec2& o, const Vec2& a, const Vec2& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
 Vec2 rotate(const Vec2& p, double angle) {
   const double c = std::cos(angle);
   const double s = std::sin(angle);

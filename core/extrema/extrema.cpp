@@ -17,7 +17,6 @@
 namespace seam::core {
 namespace {
 
-constexpr std::uint32_t kNone = VertexId::kInvalidValue;
 
 struct Component {
   std::vector<std::uint32_t> vertices;  // ascending vertex ids; local index = position here

@@ -43,7 +43,6 @@ Status check_topology_of(const HalfedgeMesh& mesh, const Topology& topology) {
 
 Topology compute_topology(const HalfedgeMesh& mesh) {
   Topology topo;
-  const std::uint32_t kNone = VertexId::kInvalidValue;
   topo.face_component.assign(mesh.num_faces(), kNone);
   topo.vertex_component.assign(mesh.num_vertices(), kNone);
 

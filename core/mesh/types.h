@@ -16,6 +16,20 @@ namespace seam::core {
 using Vec3 = Eigen::Vector3d;
 using Vec2 = Eigen::Vector2d;
 
+/// a.x b.y - a.y b.x: the z component of the cross product, twice the signed area of the
+/// triangle (0, a, b) (positive when it turns counter-clockwise).
+inline double cross2(const Vec2& a, const Vec2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+/// Twice the signed area of the triangle (o, a, b).
+inline double cross2(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return cross2(a - o, b - o);
+}
+
+/// "No index": the all-ones 32-bit value, for an absent vertex, chart, slot or entry in the
+/// plain index arrays (typed ids have their own, StrongId::kInvalidValue, the same value).
+inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
 /// "No path", "not reached", "no bound yet": lengths and distances start here.
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 

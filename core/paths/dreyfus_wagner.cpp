@@ -17,7 +17,6 @@ namespace seam::core {
 
 namespace {
 
-constexpr std::uint32_t kNone = 0xffffffffu;
 constexpr std::uint32_t kMerge = 0x80000000u;
 
 constexpr std::size_t kLargePage = std::size_t{2} << 20;

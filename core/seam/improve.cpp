@@ -424,7 +424,6 @@ class NearestTerminalGrowth {
 
  private:
   static constexpr double kUnreached = std::numeric_limits<double>::infinity();
-  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
   struct Visitor {
     NearestTerminalGrowth& g;

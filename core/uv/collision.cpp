@@ -11,8 +11,6 @@ namespace seam::core {
 
 namespace {
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 struct Box {
   Vec2 lo;
   Vec2 hi;

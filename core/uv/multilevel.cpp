@@ -13,7 +13,6 @@ namespace seam::core {
 
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr double kThinArea2x = 1e-11;
 
 double cross(const Vec2& a, const Vec2& b, const Vec2& c) {

@@ -197,18 +197,6 @@ std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t) 
   return {Vec2(0, 0), Vec2(l1, 0), Vec2(ex, ey)};
 }
 
-}  // namespace seam::core
-
-namespace seam::core {
-
-namespace {
-
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-double signed_area_2x(const Vec2& a, const Vec2& b, const Vec2& c) { return cross2(b - a, c - a); }
-
-}  // namespace
-
 VertexStars vertex_stars(const DiscPatch& patch) {
   const std::size_t n = patch.num_vertices();
   VertexStars s;
@@ -259,7 +247,7 @@ double max_injective_step(const DiscPatch& patch, const std::vector<Vec2>& uv, c
 std::size_t count_flipped(const DiscPatch& patch, const std::vector<Vec2>& uv) {
   std::size_t flipped = 0;
   for (const Triangle& t : patch.triangles) {
-    if (!(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) ++flipped;
+    if (!(cross2(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) ++flipped;
   }
   return flipped;
 }
@@ -275,7 +263,7 @@ std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int roun
     std::size_t bad = 0;
     for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
       const Triangle& t = patch.triangles[star[k]];
-      if (!(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) ++bad;
+      if (!(cross2(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) ++bad;
     }
     return bad;
   };
@@ -283,7 +271,7 @@ std::size_t repair_flips(const DiscPatch& patch, std::vector<Vec2>& uv, int roun
   std::vector<std::uint8_t> mark(n, 0);
   std::vector<std::uint32_t> candidates;
   for (const Triangle& t : patch.triangles) {
-    if (signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0) continue;
+    if (cross2(uv[t[0]], uv[t[1]], uv[t[2]]) > 0) continue;
     for (std::uint32_t v : t) {
       if (!mark[v]) {
         mark[v] = 1;
@@ -382,12 +370,12 @@ bool moves_well(const std::vector<std::pair<Vec2, Vec2>>& ring, const Vec2& from
   std::size_t folded_after = 0;
   double worst_before = std::numeric_limits<double>::infinity();
   if (relaxed) {
-    for (const auto& [a, b] : ring) worst_before = std::min(worst_before, signed_area_2x(from, a, b));
+    for (const auto& [a, b] : ring) worst_before = std::min(worst_before, cross2(from, a, b));
     return t > worst_before;
   }
   for (const auto& [a, b] : ring) {
-    const double before = signed_area_2x(from, a, b);
-    const bool now_folded = !(signed_area_2x(to, a, b) > floor);
+    const double before = cross2(from, a, b);
+    const bool now_folded = !(cross2(to, a, b) > floor);
     worst_before = std::min(worst_before, before);
     if (!(before > floor)) {
       ++folded_before;
@@ -404,7 +392,7 @@ bool moves_well(const std::vector<std::pair<Vec2, Vec2>>& ring, const Vec2& from
 std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, double min_area_2x) {
   auto thin = [&](std::uint32_t t) {
     const Triangle& tri = patch.triangles[t];
-    return !(signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > min_area_2x);
+    return !(cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > min_area_2x);
   };
   // The thin triangles in index order, kept up to date from the stars of the vertices each
   // round moves (a triangle changes only when a corner moves): the rounds see what a scan of
@@ -477,7 +465,7 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
   std::vector<double> before(patch.triangles.size());
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Triangle& tri = patch.triangles[t];
-    before[t] = signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]);
+    before[t] = cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]);
   }
   // Through float storage: with GCC 12 at -O3 a direct double->float->double cast in a loop
   // was observed to leave the doubles unrounded (the tests check every value is a float).
@@ -492,7 +480,7 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
   std::vector<std::uint32_t> bad;
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Triangle& tri = patch.triangles[t];
-    if (before[t] > 0 && !(signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0)) {
+    if (before[t] > 0 && !(cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0)) {
       bad.push_back(static_cast<std::uint32_t>(t));
     }
   }
@@ -505,7 +493,7 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
   auto star_ok = [&](std::uint32_t v) {
     for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
       const Triangle& t = patch.triangles[star[k]];
-      if (before[star[k]] > 0 && !(signed_area_2x(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) return false;
+      if (before[star[k]] > 0 && !(cross2(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) return false;
     }
     return true;
   };
@@ -516,7 +504,7 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
   };
   for (std::uint32_t t : bad) {
     const Triangle& tri = patch.triangles[t];
-    if (signed_area_2x(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0) continue;  // fixed by a neighbour's nudge
+    if (cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0) continue;  // fixed by a neighbour's nudge
     bool fixed = false;
     for (int corner = 0; corner < 3 && !fixed; ++corner) {
       const std::uint32_t v = tri[corner];
