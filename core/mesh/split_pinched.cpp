@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/mesh/small_sort.h"
 #include "core/seam/tree_util.h"
 
 namespace seam::core {
@@ -87,18 +88,7 @@ CornersByVertex corners_by_vertex(std::size_t nv, std::span<const Triangle> tria
   }
   const auto by_root = [](const FanCorner& x, const FanCorner& y) { return x.root < y.root; };
   for (std::size_t v = 0; v < nv; ++v) {
-    const auto begin = g.corners.begin() + g.start[v];
-    const auto end = g.corners.begin() + g.start[v + 1];
-    if (end - begin > 32) {
-      std::stable_sort(begin, end, by_root);
-      continue;
-    }
-    for (auto i = begin + 1; i < end; ++i) {
-      const FanCorner item = *i;
-      auto j = i;
-      for (; j > begin && by_root(item, *(j - 1)); --j) *j = *(j - 1);
-      *j = item;
-    }
+    stable_sort_small(g.corners.begin() + g.start[v], g.corners.begin() + g.start[v + 1], by_root);
   }
   return g;
 }

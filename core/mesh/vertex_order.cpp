@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/mesh/radix_sort.h"
+#include "core/mesh/small_sort.h"
 
 namespace seam::core {
 
@@ -87,18 +88,7 @@ std::vector<std::uint32_t> sort_triangles(std::vector<Triangle>& triangles, std:
   }
   std::vector<std::uint32_t> order(triangles.size());
   for (std::uint32_t v = 0; v < num_vertices; ++v) {
-    const auto begin = items.begin() + start[v];
-    const auto end = items.begin() + start[v + 1];
-    if (end - begin > 32) {
-      std::stable_sort(begin, end, less);
-    } else {
-      for (auto i = begin + 1; i < end; ++i) {
-        const Item item = *i;
-        auto j = i;
-        for (; j > begin && less(item, *(j - 1)); --j) *j = *(j - 1);
-        *j = item;
-      }
-    }
+    stable_sort_small(items.begin() + start[v], items.begin() + start[v + 1], less);
     for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
       triangles[i] = {v, items[i].b, items[i].c};
       order[i] = items[i].index;
