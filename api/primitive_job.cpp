@@ -100,17 +100,22 @@ ApiResult<OutputVertices> map_output_vertices(const PrimitiveData& data, const C
   if (canon.degenerate_inputs.empty()) return out;
   const std::vector<core::VertexId> borrow = welded_to_cut(canon, cut);
   for (const std::uint32_t f : canon.degenerate_inputs) {
-    std::array<core::VertexId, 3> cv;
-    core::VertexId in_face;  // a corner's cut vertex that lies in some face
+    // All three corners take one cut vertex (the first corner's that lies in some face, else
+    // the first corner's), so the face has no area in texture space either and lies in one
+    // chart. Corners in two charts (a repeated vertex beside another part's, or three points
+    // of a line on both sides of a seam) would make a triangle across charts, which the atlas
+    // step cannot place, and three points of a line would get a UV triangle with area over
+    // other charts, which a baker would paint.
+    core::VertexId first, in_face;
     for (std::size_t k = 0; k < 3; ++k) {
-      cv[k] = borrow[canon.input_to_vertex[data.mesh.triangles[f][k]]];
-      if (!cv[k].valid()) return make_api_error(ApiErrorCode::kInternal, "degenerate face " + std::to_string(f) + " lost a vertex");
-      if (!in_face.valid() && !cut.mesh.is_isolated(cv[k])) in_face = cv[k];
+      const core::VertexId c = borrow[canon.input_to_vertex[data.mesh.triangles[f][k]]];
+      if (!c.valid())
+        return make_api_error(ApiErrorCode::kInternal, "degenerate face " + std::to_string(f) + " lost a vertex");
+      if (!first.valid()) first = c;
+      if (!in_face.valid() && !cut.mesh.is_isolated(c)) in_face = c;
     }
-    for (std::size_t k = 0; k < 3; ++k) {
-      const core::VertexId c = cut.mesh.is_isolated(cv[k]) && in_face.valid() ? in_face : cv[k];
-      prim.triangles[f][k] = emit(data.mesh.triangles[f][k], c);
-    }
+    const core::VertexId point = in_face.valid() ? in_face : first;
+    for (std::size_t k = 0; k < 3; ++k) prim.triangles[f][k] = emit(data.mesh.triangles[f][k], point);
   }
   return out;
 }

@@ -223,6 +223,54 @@ TEST_CASE("charts features: a cube opens into its six sides, each flat (angle di
   CHECK(sides.body["uv"]["overlap_area"] == 0.0);
 }
 
+TEST_CASE("faces without area that join two parts: one UV point each, both parts packed apart") {
+  // Two spheres apart, a face with a repeated vertex joining them and three points of a line
+  // from one to the other (its middle vertex in no other face): repair leaves both out of
+  // the topology and the asset keeps them. Before, the repeated-vertex face lay in two charts
+  // and the atlas step failed (a 500), and the line got a UV triangle over the charts.
+  const auto sphere = fixtures::icosphere(1);
+  core::IndexedMesh mesh{sphere.positions, sphere.triangles};
+  const auto n = static_cast<std::uint32_t>(mesh.positions.size());
+  const auto faces = mesh.triangles.size();
+  for (std::uint32_t v = 0; v < n; ++v) mesh.positions.push_back(mesh.positions[v] + core::Vec3(4, 0, 0));
+  for (std::size_t f = 0; f < faces; ++f) {
+    const auto& t = mesh.triangles[f];
+    mesh.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+  }
+  std::uint32_t a = 0;  // the first sphere's vertex of largest x, and its copy on the second
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (mesh.positions[v].x() > mesh.positions[a].x()) a = v;
+  }
+  const std::uint32_t b = a + n;
+  mesh.positions.push_back(0.5 * (mesh.positions[a] + mesh.positions[b]));  // exactly between
+  const auto middle = static_cast<std::uint32_t>(mesh.positions.size() - 1);
+  mesh.triangles.push_back({a, a, 2 * n - 1});
+  mesh.triangles.push_back({a, middle, b});
+  auto glb = write_plain_glb(mesh);
+  REQUIRE(glb.ok());
+  for (const json& params : {json::object(), json{{"pack", {{"split", true}}}}}) {
+    CAPTURE(params.dump());
+    const PipelineOutput out = run_ok(*glb, params);
+    CHECK(out.body["repairs"]["degenerate_faces"] == 2);
+    CHECK(out.body["uv"]["overlap_area"] == 0.0);
+    CHECK(out.body["uv"]["flipped"] == 0);
+    auto doc = parse_asset(out.glb, AssetKind::kGlb);
+    REQUIRE(doc.ok());
+    auto p = read_primitive(*doc, 0, 0);
+    REQUIRE(p.ok());
+    REQUIRE(p->mesh.triangles.size() == 2 * faces + 2);
+    const int channel = out.body["uv"]["channel"].get<int>();
+    const double both = uv_area(*p, channel);
+    core::IndexedMesh last_two{p->mesh.positions, {p->mesh.triangles.end() - 2, p->mesh.triangles.end()}};
+    PrimitiveData degenerate = *p;
+    degenerate.mesh = last_two;
+    CHECK(uv_area(degenerate, channel) == 0.0);
+    CHECK(both > 0.2);
+    std::string report;
+    CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "degenerate_joins.glb") == 0, report);
+  }
+}
+
 TEST_CASE("output svg draws every new UV triangle, one group per primitive") {
   const std::string asset = three_mesh_asset();
   const PipelineOutput out = run_ok(asset, {{"output", "svg"}});
