@@ -310,18 +310,23 @@ std::vector<std::array<float, 2>> output_uvs(const core::UvResult& uv, const std
   return out;
 }
 
-// A seam computed on `sub` (the surface cut along `features`) expressed on the surface:
-// vertices through sub_to_surface, edges found between the mapped ends.
+// The surface's edge between the originals of the ends of `e`, an edge of `sub` (the surface
+// cut along its features, whose vertices map to the surface by sub_to_surface).
+core::EdgeId surface_edge(core::EdgeId e, const core::HalfedgeMesh& sub,
+                          const core::VertexData<core::VertexId>& sub_to_surface, const core::HalfedgeMesh& mesh) {
+  const core::HalfedgeId h = core::HalfedgeMesh::halfedge(e);
+  return core::HalfedgeMesh::edge(mesh.find_halfedge(sub_to_surface[sub.tail(h)], sub_to_surface[sub.head(h)]));
+}
+
+// A seam computed on `sub` expressed on the surface: vertices through sub_to_surface, edges
+// found between the mapped ends.
 core::SeamResult seam_on_surface(core::SeamResult seam, const core::HalfedgeMesh& sub,
                                  const core::VertexData<core::VertexId>& sub_to_surface, const core::HalfedgeMesh& mesh) {
   auto vertices = [&](std::vector<core::VertexId>& vs) {
     for (auto& v : vs) v = sub_to_surface[v];
   };
   auto edges = [&](std::vector<core::EdgeId>& es) {
-    for (auto& e : es) {
-      const core::HalfedgeId h = core::HalfedgeMesh::halfedge(e);
-      e = core::HalfedgeMesh::edge(mesh.find_halfedge(sub_to_surface[sub.tail(h)], sub_to_surface[sub.head(h)]));
-    }
+    for (auto& e : es) e = surface_edge(e, sub, sub_to_surface, mesh);
   };
   vertices(seam.extrema);
   vertices(seam.terminals);
@@ -440,7 +445,15 @@ ApiResult<SeamCut> seam_and_cuts(const Surface& surface, const std::vector<core:
   for (std::uint32_t v = sides->mesh.num_vertices(); v-- > 0;) first_copy[sides->to_original[core::VertexId(v)].index()] = core::VertexId(v);
   std::vector<core::VertexId> sub_terminals;
   for (auto t : terminals) sub_terminals.push_back(first_copy[t.index()]);
-  auto seam = core::compute_seam(sides->mesh, sub_terminals, options, cancel);
+  // The steering costs are per edge of the surface; each side's edge takes its original's.
+  std::vector<double> sub_costs;
+  for (std::uint32_t e = 0; e < sides->mesh.num_edges() && !options.edge_costs.empty(); ++e) {
+    sub_costs.push_back(
+        options.edge_costs[surface_edge(core::EdgeId(e), sides->mesh, sides->to_original, surface.mesh).index()]);
+  }
+  core::SeamOptions sub_options = options;
+  sub_options.edge_costs = sub_costs;
+  auto seam = core::compute_seam(sides->mesh, sub_terminals, sub_options, cancel);
   if (!seam.ok()) return from_core(seam.error());
   out.seam = seam_on_surface(std::move(seam).value(), sides->mesh, sides->to_original, surface.mesh);
   out.cut_edges = core::all_cut_edges(out.seam);

@@ -38,6 +38,40 @@ void check_leaves(const json& seam) {
   for (const auto& x : seam["extrema"]) CHECK(degree[x.get<std::uint32_t>()] == 1);
 }
 
+// The elephant painted expensive (20) on the half above its mean y, cheap (1) below, as
+// written with and without the paint.
+struct PaintedElephant {
+  core::IndexedMesh mesh = load_cgal("elephant");
+  std::vector<float> cost;
+  std::string painted;
+  std::string plain;
+
+  PaintedElephant() {
+    double mid = 0;
+    for (const auto& p : mesh.positions) mid += p.y() / static_cast<double>(mesh.positions.size());
+    for (const auto& p : mesh.positions) cost.push_back(p.y() > mid ? 20.0f : 1.0f);
+    auto with_paint = write_plain_glb(mesh, {make_float_attribute("_SEAM_COST", 1, cost)});
+    auto without = write_plain_glb(mesh);
+    REQUIRE(with_paint.ok());
+    REQUIRE(without.ok());
+    painted = std::move(with_paint).value();
+    plain = std::move(without).value();
+  }
+
+  // The painted weighted length of a seam's edges but the cut graph's (which opens the
+  // elephant's three handles and is not steered), computed here from the paint.
+  double painted_cost(const json& seam) const {
+    double c = 0;
+    const std::set<json> cut_graph(seam["cut_graph_edges"].begin(), seam["cut_graph_edges"].end());
+    for (const auto& e : seam["edges"]) {
+      if (cut_graph.count(e)) continue;
+      const auto a = e[0].get<std::size_t>(), b = e[1].get<std::size_t>();
+      c += (mesh.positions[a] - mesh.positions[b]).norm() * 0.5 * (cost[a] + cost[b]);
+    }
+    return c;
+  }
+};
+
 }  // namespace
 
 TEST_CASE("hide_from: the view that sees most of the default seam sees much less of the hidden one") {
@@ -96,45 +130,64 @@ TEST_CASE("method optimal minimises the weighted length: no method costs less, e
 }
 
 TEST_CASE("_SEAM_COST: a painted expensive half makes the seam cheaper under the paint, extrema kept") {
-  const auto mesh = load_cgal("elephant");
-  double mid = 0;
-  for (const auto& p : mesh.positions) mid += p.y() / static_cast<double>(mesh.positions.size());
-  std::vector<float> cost;
-  for (const auto& p : mesh.positions) cost.push_back(p.y() > mid ? 20.0f : 1.0f);
-  auto painted = write_plain_glb(mesh, {make_float_attribute("_SEAM_COST", 1, cost)});
-  auto plain_glb = write_plain_glb(mesh);
-  REQUIRE(painted.ok());
-  REQUIRE(plain_glb.ok());
-  // The painted weighted length of a seam (its edges but the cut graph's, which opens the
-  // elephant's three handles and is not steered), computed here from the paint.
-  auto painted_cost = [&](const json& seam) {
-    double c = 0;
-    const std::set<json> cut_graph(seam["cut_graph_edges"].begin(), seam["cut_graph_edges"].end());
-    for (const auto& e : seam["edges"]) {
-      if (cut_graph.count(e)) continue;
-      const auto a = e[0].get<std::size_t>(), b = e[1].get<std::size_t>();
-      c += (mesh.positions[a] - mesh.positions[b]).norm() * 0.5 * (cost[a] + cost[b]);
-    }
-    return c;
-  };
-  const json plain = run_ok(*plain_glb, json::object());
-  const json steered = run_ok(*painted, json::object());
-  MESSAGE("painted cost of the seam: " << painted_cost(plain["seam"]) << " -> " << painted_cost(steered["seam"])
+  PaintedElephant e;
+  const json plain = run_ok(e.plain, json::object());
+  const json steered = run_ok(e.painted, json::object());
+  MESSAGE("painted cost of the seam: " << e.painted_cost(plain["seam"]) << " -> " << e.painted_cost(steered["seam"])
                                        << ", length " << plain["seam"]["length"].get<double>() << " -> "
                                        << steered["seam"]["length"].get<double>());
-  CHECK(steered["seam"]["cost"].get<double>() == doctest::Approx(painted_cost(steered["seam"])));
-  CHECK(painted_cost(steered["seam"]) < 0.9 * painted_cost(plain["seam"]));
+  CHECK(steered["seam"]["cost"].get<double>() == doctest::Approx(e.painted_cost(steered["seam"])));
+  CHECK(e.painted_cost(steered["seam"]) < 0.9 * e.painted_cost(plain["seam"]));
   CHECK(steered["seam"]["extrema"] == plain["seam"]["extrema"]);
   check_leaves(steered["seam"]);
   // Negative or non-finite costs are the asset's defect.
-  cost[3] = -1.0f;
-  auto bad = write_plain_glb(mesh, {make_float_attribute("_SEAM_COST", 1, cost)});
+  e.cost[3] = -1.0f;
+  auto bad = write_plain_glb(e.mesh, {make_float_attribute("_SEAM_COST", 1, e.cost)});
   REQUIRE(bad.ok());
   auto p = params_from_json(json::object());
   auto refused = run_seam_pipeline(*bad, AssetKind::kAuto, *p, {}, core::CancelToken::none());
   REQUIRE(!refused.ok());
   CHECK(refused.error().code == ApiErrorCode::kMalformedAsset);
   CHECK(refused.error().details["vertex"] == 3);
+}
+
+TEST_CASE("charts features: _SEAM_COST and hide_from steer the seam of every side too") {
+  // The seam runs on the surface cut along its sharp edges, which has more edges than the
+  // surface: each side's edge takes the cost of the edge it came from (before, a 400). The
+  // feature edges are the same in both runs, so the painted costs differ by the seams'.
+  PaintedElephant e;
+  const json features = {{"charts", "features"}};  // 60 degrees: 18 sharp edges on the elephant
+  const json plain = run_ok(e.plain, features);
+  const json steered = run_ok(e.painted, features);
+  REQUIRE(plain["seam"]["feature_edges"].get<int>() > 0);
+  CHECK(steered["seam"]["feature_edges"] == plain["seam"]["feature_edges"]);
+  CHECK(steered["seam"]["extrema"] == plain["seam"]["extrema"]);
+  MESSAGE("features, painted cost " << e.painted_cost(plain["seam"]) << " -> " << e.painted_cost(steered["seam"]));
+  CHECK(e.painted_cost(steered["seam"]) < 0.95 * e.painted_cost(plain["seam"]));  // 0.89 measured
+  CHECK(steered["seam"]["cost"].get<double>() > steered["seam"]["length"].get<double>());
+  CHECK(plain["seam"]["cost"].get<double>() == doctest::Approx(plain["seam"]["length"].get<double>()));
+
+  // Hidden from the axis view that sees most of it.
+  double worst_seen = -1;
+  json worst_view;
+  for (const json& view :
+       {json{1, 0, 0}, json{-1, 0, 0}, json{0, 1, 0}, json{0, -1, 0}, json{0, 0, 1}, json{0, 0, -1}}) {
+    json params = features;
+    params["hide_from"] = {view};
+    params["hide_strength"] = 0;
+    const json measured = run_ok(e.plain, params);
+    CHECK(measured["seam"]["edges"] == plain["seam"]["edges"]);
+    if (measured["seam"]["visible_length"].get<double>() > worst_seen) {
+      worst_seen = measured["seam"]["visible_length"].get<double>();
+      worst_view = view;
+    }
+  }
+  json params = features;
+  params["hide_from"] = {worst_view};
+  const json hidden = run_ok(e.plain, params);
+  MESSAGE("features, seen from " << worst_view.dump() << ": " << worst_seen << " -> "
+                                 << hidden["seam"]["visible_length"].get<double>());
+  CHECK(hidden["seam"]["visible_length"].get<double>() < 0.8 * worst_seen);
 }
 
 }  // namespace seam_steering_test
