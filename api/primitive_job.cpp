@@ -196,7 +196,15 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
   }
   for (auto i : spec.indices) {
     if (auto e = check(i, "extremum")) return *e;
-    add(core::VertexId(canon.input_to_vertex[i]));
+    const core::VertexId v(canon.input_to_vertex[i]);
+    if (mesh.is_isolated(v)) {
+      return make_api_error(ApiErrorCode::kExtremumOutOfRange,
+                            "extremum vertex " + std::to_string(i) +
+                                " lies in no face of the surface (no triangle uses it, or only triangles without "
+                                "area): a seam cannot reach it",
+                            {{"index", i}});
+    }
+    add(v);
   }
   // Snap each position to the nearest vertex that lies on the surface (isolated vertices
   // cannot be terminals).

@@ -37,12 +37,13 @@ ApiResult<std::size_t> explicit_extrema_count(const ExtremaSpec& spec, std::size
 
 /// Runs the seam job on one primitive with `extrema` (its own or the request's) and the
 /// request's method, uv, refine, repair, weld and charts parameters (charts "features": the
-/// surface is cut along its sharp edges too, core::find_feature_edges). Error messages and details name
-/// input elements (face = index in the primitive's index order, vertex = POSITION index).
-/// Errors: kDegenerateFace, kNonManifoldEdge, kInconsistentOrientation (repair: false only),
-/// kNonFinitePosition, kExtremumOutOfRange, kTooManyExtrema, kTooManyTerminals (optimal),
-/// kSolverFailed, kTimeout (cancelled), kInternal. Uses at most max(1, options.threads)
-/// threads; the result does not depend on it.
+/// surface is cut along its sharp edges too, core::find_feature_edges). Error messages and
+/// details name input elements (face = index in the primitive's index order, vertex =
+/// POSITION index). Errors: kEmptyMesh (no triangle with area), kDegenerateFace,
+/// kNonManifoldEdge, kInconsistentOrientation (repair: false only), kNonFinitePosition,
+/// kExtremumOutOfRange (an index past the vertices, or a vertex in no face with area),
+/// kTooManyExtrema, kTooManyTerminals (optimal), kSolverFailed, kTimeout (cancelled),
+/// kInternal. Uses at most max(1, options.threads) threads; the result does not depend on it.
 ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const ExtremaSpec& extrema,
                                              const SeamParams& params, const PrimitiveJobOptions& options,
                                              const core::CancelToken& cancel);

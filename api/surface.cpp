@@ -190,9 +190,16 @@ ApiError build_error(const core::Error& error, const Canonical& canon, const Pri
   switch (error.code) {
     case core::ErrorCode::kDegenerateFace: return degenerate_faces_error(canon, data);
     case core::ErrorCode::kNonManifoldEdge: return edge_error(ApiErrorCode::kNonManifoldEdge, canon);
-    case core::ErrorCode::kInconsistentOrientation: return edge_error(ApiErrorCode::kInconsistentOrientation, canon);
-    case core::ErrorCode::kInvalidArgument:
+    case core::ErrorCode::kInconsistentOrientation:
+      return edge_error(ApiErrorCode::kInconsistentOrientation, canon);
     case core::ErrorCode::kEmptyMesh:
+      if (data.mesh.triangles.empty()) break;
+      // Every triangle was left out: say so, rather than that there are none.
+      return make_api_error(ApiErrorCode::kEmptyMesh,
+                            "the mesh has no triangle with area: all " + std::to_string(data.mesh.triangles.size()) +
+                                " repeat a vertex or lie on a line",
+                            {{"degenerate_faces", canon.degenerate_inputs.size()}});
+    case core::ErrorCode::kInvalidArgument:
     case core::ErrorCode::kIndexOutOfRange:
     case core::ErrorCode::kNonFinitePosition:
     case core::ErrorCode::kNonManifoldVertex:

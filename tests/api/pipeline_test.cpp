@@ -528,6 +528,31 @@ TEST_CASE("pipeline errors keep their codes") {
   CHECK(out.error().code == ApiErrorCode::kExtremumOutOfRange);
   CHECK(http_status(out.error().code) == 422);
 
+  // An extremum at a vertex no triangle uses: the same code, naming the client's index (the
+  // core named its own vertex number under index_out_of_range before).
+  core::IndexedMesh unused{sphere.positions, sphere.triangles};
+  unused.positions.insert(unused.positions.begin(), core::Vec3(5, 5, 5));
+  for (auto& t : unused.triangles) t = {t[0] + 1, t[1] + 1, t[2] + 1};
+  auto unused_glb = write_plain_glb(unused);
+  REQUIRE(unused_glb.ok());
+  params.extrema.indices = {7, 0};
+  out = run_seam_pipeline(*unused_glb, AssetKind::kAuto, params, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kExtremumOutOfRange);
+  CHECK(out.error().details["index"] == 0);
+  CHECK_MESSAGE(out.error().message.find("extremum vertex 0 lies in no face") != std::string::npos,
+                out.error().message);
+
+  // Only triangles without area (a line, a repeated vertex): empty, and the message says why.
+  core::IndexedMesh flat{{core::Vec3(0, 0, 0), core::Vec3(1, 0, 0), core::Vec3(2, 0, 0)}, {{0, 1, 2}, {0, 0, 2}}};
+  auto flat_glb = write_plain_glb(flat);
+  REQUIRE(flat_glb.ok());
+  out = run_seam_pipeline(*flat_glb, AssetKind::kAuto, SeamParams{}, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kEmptyMesh);
+  CHECK(out.error().details["degenerate_faces"] == 2);
+  CHECK_MESSAGE(out.error().message.find("no triangle with area: all 2") != std::string::npos, out.error().message);
+
   // Three triangles on one edge: non-manifold, reported in input vertex indices.
   core::IndexedMesh fin{{core::Vec3(0, 0, 0), core::Vec3(1, 0, 0), core::Vec3(0, 1, 0), core::Vec3(0, -1, 0),
                          core::Vec3(0, 0, 1)},
