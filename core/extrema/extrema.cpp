@@ -17,7 +17,6 @@
 namespace seam::core {
 namespace {
 
-
 struct Component {
   std::vector<std::uint32_t> vertices;  // ascending vertex ids; local index = position here
   double area = 0;
