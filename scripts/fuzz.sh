@@ -22,7 +22,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build/fuzz"
 jobs="${SEAM_JOBS:-2}"
-read -r -a targets <<<"${SEAM_FUZZ_TARGETS:-gltf_fuzz http_head_fuzz request_fuzz multipart_fuzz atlas_fuzz}"
+read -r -a targets <<<"${SEAM_FUZZ_TARGETS:-gltf_fuzz http_head_fuzz request_fuzz multipart_fuzz atlas_fuzz mesh_fuzz}"
 
 campaign=0
 minimize_only=0
@@ -38,7 +38,13 @@ fi
 
 short() { echo "${1%_fuzz}"; }
 corpus_of() { if [[ "$1" == gltf_fuzz ]]; then echo "$root/tests/fuzz/corpus"; else echo "$root/tests/fuzz/corpus_$(short "$1")"; fi; }
-max_len_of() { if [[ "$1" == gltf_fuzz ]]; then echo 65536; else echo 16384; fi; }
+max_len_of() {
+  case "$1" in
+    gltf_fuzz) echo 65536 ;;
+    mesh_fuzz) echo 1024 ;;  # 66 vertices and 160 triangles take 690 bytes
+    *) echo 16384 ;;
+  esac
+}
 
 start=$(date +%s)
 launcher=()

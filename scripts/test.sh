@@ -4,7 +4,8 @@
 #      real CGAL meshes, glTF-Validator checks.
 #   2. The same unit and end-to-end suites under AddressSanitizer + UndefinedBehaviorSanitizer.
 #   3. A short libFuzzer run of every fuzz target (asset loader, request head, request layer,
-#      multipart) over its corpus and regression inputs (scripts/fuzz.sh).
+#      multipart, atlas, the per-primitive job) over its corpus and regression inputs
+#      (scripts/fuzz.sh).
 # Exits non-zero when anything fails.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
