@@ -41,6 +41,7 @@
 #include "core/seam/baselines.h"
 #include "core/seam/cut_graph.h"
 #include "core/seam/skeleton.h"
+#include "core/seam/tree_util.h"
 #include "core/timing.h"
 
 namespace seam::core {
@@ -147,6 +148,38 @@ Result<MethodTree> exact_tree(const SearchSurface& work, std::span<const VertexI
   return MethodTree{std::move(exact->edges), true};
 }
 
+// Whether a tree with every terminal a leaf exists on `graph`: for three or more terminals,
+// some part of the graph without terminals must touch all of them (a tiny closed part whose
+// every vertex is an extremum has none). O(V + E).
+bool leaf_tree_exists(const EdgeGraph& graph, std::span<const VertexId> terminals) {
+  if (terminals.size() < 3) return true;
+  const std::size_t nv = graph.num_vertices();
+  std::vector<std::uint32_t> terminal_of(nv, kNone);
+  for (std::uint32_t i = 0; i < terminals.size(); ++i) terminal_of[terminals[i].index()] = i;
+  detail::UnionFind parts(nv);
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    for (std::uint32_t slot = graph.offsets[v]; slot < graph.offsets[v + 1]; ++slot) {
+      const std::uint32_t w = graph.head[slot].value();
+      if (terminal_of[v] == kNone && terminal_of[w] == kNone) parts.unite(v, w);
+    }
+  }
+  // Per part, the terminals it touches, counted once each (the last terminal that counted).
+  std::vector<std::uint32_t> touched(nv, 0);
+  std::vector<std::uint32_t> last(nv, kNone);
+  for (std::uint32_t i = 0; i < terminals.size(); ++i) {
+    const std::uint32_t t = terminals[i].value();
+    for (std::uint32_t slot = graph.offsets[t]; slot < graph.offsets[t + 1]; ++slot) {
+      const std::uint32_t w = graph.head[slot].value();
+      if (terminal_of[w] != kNone) continue;
+      const std::uint32_t part = parts.find(w);
+      if (last[part] == i) continue;
+      last[part] = i;
+      if (++touched[part] == terminals.size()) return true;
+    }
+  }
+  return false;
+}
+
 // The tree on `work` (a closed genus-0 surface) for `terminals` by the chosen method.
 Result<MethodTree> run_method(const SearchSurface& work, std::span<const VertexId> terminals,
                               const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
@@ -164,6 +197,16 @@ Result<MethodTree> run_method(const SearchSurface& work, std::span<const VertexI
     return MethodTree{std::move(edges), true};
   }
   SteinerTree tree;
+  if ((options.method == SeamMethod::kSkeleton || options.method == SeamMethod::kOptimal) &&
+      !leaf_tree_exists(work.graph(), terminals)) {
+    // No tree has every terminal a leaf: the MST seam, with terminals inside it, still opens
+    // the part to a disc (not minimal, not leaf-only: `exact` false).
+    auto start = StageClock::now();
+    SEAM_TRY(TerminalPaths paths, terminal_paths_on_demand(work, terminals, cancel));
+    SEAM_TRY(tree, mst_seam(work, paths, cancel));
+    stats.method_ms += ms_since(start);
+    return MethodTree{std::move(tree.edges), false};
+  }
   if (exact_is_cheap(options, terminals.size(), work.mesh().num_vertices())) {
     auto exact = exact_tree(work, terminals, options, stats, cancel);
     // A table above optimal_seam's memory cap: the heuristic below decides.

@@ -85,7 +85,10 @@ struct SeamResult {
 std::vector<EdgeId> all_cut_edges(const SeamResult& seam);
 
 /// Computes the seam on every connected component of `mesh`, each with the extrema that lie
-/// on it. Preconditions: `mesh` came from build_halfedge_mesh.
+/// on it. Skeleton and optimal make every extremum a leaf wherever a tree can: where none can
+/// (no vertex reaches every terminal without passing through another, e.g. a tetrahedron
+/// whose four vertices are all extrema) the component gets the MST seam, which opens it all
+/// the same, and `optimal` is false. Preconditions: `mesh` came from build_halfedge_mesh.
 /// Errors: kIndexOutOfRange (an extremum >= num_vertices or isolated), kInvalidArgument
 /// (edge_costs neither empty nor one finite positive value per edge), kTooManyTerminals
 /// (kOptimal above options.optimal_max_terminals), kTopologyViolation (a bug: the result

@@ -220,6 +220,27 @@ TEST_CASE("two adjacent extrema on a closed surface: the seam stays cuttable and
   }
 }
 
+TEST_CASE("when no tree can have every extremum a leaf, the seam still opens the part (MST seam)") {
+  // A tetrahedron with all four vertices extrema, and a two-triangle pillow with all three:
+  // no vertex reaches every extremum without passing through another. Before, skeleton and
+  // optimal refused the request ("the terminals are not all connected"); found by mesh_fuzz.
+  const fx::Soup pillow{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}, {0, 2, 1}}};
+  for (const fx::Soup& soup : {fx::tetrahedron(), pillow}) {
+    const HalfedgeMesh mesh = build(soup);
+    std::vector<VertexId> extrema;
+    for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) extrema.push_back(VertexId(v));
+    for (SeamMethod m : kMethods) {
+      CAPTURE(mesh.num_vertices());
+      CAPTURE(std::string(seam_method_name(m)));
+      auto r = compute_seam(mesh, extrema, {.method = m});
+      REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
+      CHECK(!r->optimal);
+      check_seam(mesh, *r, false);
+      check_tree(mesh, r->seam_edges);
+    }
+  }
+}
+
 TEST_CASE("an open surface: the boundary is one terminal touched once") {
   const HalfedgeMesh mesh = build(fx::disc(8, 24));
   const VertexId centre(0u);
