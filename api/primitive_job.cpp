@@ -455,9 +455,11 @@ ApiResult<SeamCut> seam_and_cuts(const Surface& surface, const std::vector<core:
   for (auto t : terminals) sub_terminals.push_back(first_copy[t.index()]);
   // The steering costs are per edge of the surface; each side's edge takes its original's.
   std::vector<double> sub_costs;
-  for (std::uint32_t e = 0; e < sides->mesh.num_edges() && !options.edge_costs.empty(); ++e) {
-    sub_costs.push_back(
-        options.edge_costs[surface_edge(core::EdgeId(e), sides->mesh, sides->to_original, surface.mesh).index()]);
+  if (!options.edge_costs.empty()) {
+    for (std::uint32_t e = 0; e < sides->mesh.num_edges(); ++e) {
+      sub_costs.push_back(
+          options.edge_costs[surface_edge(core::EdgeId(e), sides->mesh, sides->to_original, surface.mesh).index()]);
+    }
   }
   core::SeamOptions sub_options = options;
   sub_options.edge_costs = sub_costs;

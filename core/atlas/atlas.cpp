@@ -87,7 +87,7 @@ Result<AtlasResult> pack_atlas(std::span<const AtlasMesh> members, const PackOpt
       for (const Triangle& t : g.patches[c].triangles) {
         const Vec2 e1 = uv[t[1]] - uv[t[0]];
         const Vec2 e2 = uv[t[2]] - uv[t[0]];
-        uv_area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+        uv_area += 0.5 * std::abs(cross2(e1, e2));
         all_triangles.push_back({base + t[0], base + t[1], base + t[2]});
         chart_of.push_back(static_cast<std::uint32_t>(chart));
       }

@@ -406,7 +406,7 @@ Result<OverlapResult> find_overlaps(std::span<const Vec2> uv, std::span<const Tr
     boxes[t] = {raw[0].cwiseMin(raw[1]).cwiseMin(raw[2]), raw[0].cwiseMax(raw[1]).cwiseMax(raw[2])};
     const Vec2 e1 = tri[t][1] - tri[t][0];
     const Vec2 e2 = tri[t][2] - tri[t][0];
-    result.uv_area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+    result.uv_area += 0.5 * std::abs(cross2(e1, e2));
   }
 
   if (cancel.is_cancelled()) return cancelled_error("find_overlaps");

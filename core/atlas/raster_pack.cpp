@@ -358,7 +358,7 @@ std::vector<std::uint32_t> vertices_in_use(std::size_t nv, std::span<const Trian
 int strict_turn(std::span<const Vec2> uv, const Triangle& t) {
   const Vec2 ab = uv[t[1]] - uv[t[0]];
   const Vec2 ac = uv[t[2]] - uv[t[0]];
-  const double cross = ab.x() * ac.y() - ab.y() * ac.x();
+  const double cross = cross2(ab, ac);
   const double clear = 1e-12 * ab.norm() * ac.norm();
   return cross > clear ? 1 : cross < -clear ? -1 : 0;
 }

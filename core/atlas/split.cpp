@@ -20,7 +20,7 @@ constexpr std::size_t kCandidates = 16;  // cuts of the best scores tried; the b
 double area_of(const PackChart& chart, const Triangle& t) {
   const Vec2 e1 = chart.uv[t[1]] - chart.uv[t[0]];
   const Vec2 e2 = chart.uv[t[2]] - chart.uv[t[0]];
-  return 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+  return 0.5 * std::abs(cross2(e1, e2));
 }
 
 // A piece of a chart: indices of its triangles, and its UV area.

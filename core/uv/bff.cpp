@@ -15,7 +15,7 @@ std::size_t count_inverted(const DiscPatch& patch, const std::vector<Vec2>& uv) 
   for (const Triangle& t : patch.triangles) {
     const Vec2 a = uv[t[1]] - uv[t[0]];
     const Vec2 b = uv[t[2]] - uv[t[0]];
-    if (!(a.x() * b.y() - a.y() * b.x() > 0)) ++count;
+    if (!(cross2(a, b) > 0)) ++count;
   }
   return count;
 }

@@ -15,17 +15,11 @@ namespace {
 
 constexpr double kThinArea2x = 1e-11;
 
-double cross(const Vec2& a, const Vec2& b, const Vec2& c) {
-  const Vec2 u = b - a;
-  const Vec2 v = c - a;
-  return u.x() * v.y() - u.y() * v.x();
-}
-
 // 4 sqrt(3) area / sum of squared edges: 1 for an equilateral triangle, negative when the
 // triangle is clockwise, 0 when degenerate.
 double quality(const Vec2& a, const Vec2& b, const Vec2& c) {
   const double edges = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
-  return edges > 0 ? 2.0 * std::sqrt(3.0) * cross(a, b, c) / edges : 0.0;
+  return edges > 0 ? 2.0 * std::sqrt(3.0) * cross2(a, b, c) / edges : 0.0;
 }
 
 double quality(const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -35,9 +29,9 @@ double quality(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 // Barycentric coordinates of p in triangle t of `uv` (positively oriented).
 Vec3 barycentric(const Vec2& p, const Triangle& t, const std::vector<Vec2>& uv) {
-  const double whole = cross(uv[t[0]], uv[t[1]], uv[t[2]]);
-  return Vec3(cross(p, uv[t[1]], uv[t[2]]) / whole, cross(uv[t[0]], p, uv[t[2]]) / whole,
-              cross(uv[t[0]], uv[t[1]], p) / whole);
+  const double whole = cross2(uv[t[0]], uv[t[1]], uv[t[2]]);
+  return Vec3(cross2(p, uv[t[1]], uv[t[2]]) / whole, cross2(uv[t[0]], p, uv[t[2]]) / whole,
+              cross2(uv[t[0]], uv[t[1]], p) / whole);
 }
 
 // Barycentric coordinates moved onto the triangle (no negative weight, sum 1).
@@ -55,7 +49,7 @@ std::vector<double> vertex_log_scales(const DiscPatch& patch, const std::vector<
   for (const Triangle& t : patch.triangles) {
     const Vec3& p0 = patch.positions[t[0]];
     const double area_3d = 0.5 * (patch.positions[t[1]] - p0).cross(patch.positions[t[2]] - p0).norm();
-    const double area_uv = 0.5 * cross(uv[t[0]], uv[t[1]], uv[t[2]]);
+    const double area_uv = 0.5 * cross2(uv[t[0]], uv[t[1]], uv[t[2]]);
     if (!(area_3d > 0) || !(area_uv > 0)) continue;
     const double log_scale = 0.5 * std::log(area_uv / area_3d);
     for (std::uint32_t v : t) {
@@ -303,7 +297,7 @@ class Collapser {
       if (f == shared[0] || f == shared[1]) continue;
       const Triangle t = moved(f);
       const auto [lo, hi] = std::minmax({log_scale_[t[0]], log_scale_[t[1]], log_scale_[t[2]]});
-      if (hi - lo > max_log_scale_range_ || !(cross(uv_[t[0]], uv_[t[1]], uv_[t[2]]) > 0)) return false;
+      if (hi - lo > max_log_scale_range_ || !(cross2(uv_[t[0]], uv_[t[1]], uv_[t[2]]) > 0)) return false;
     }
     pending_.clear();
     for (std::uint32_t f : faces_of_[v]) {
@@ -374,7 +368,7 @@ Status check_start(const DiscPatch& patch, const std::vector<Vec2>& uv) {
   }
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Triangle& tri = patch.triangles[t];
-    if (!(cross(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0)) {
+    if (!(cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0)) {
       return make_error(ErrorCode::kInvalidArgument, "coarsen_chart: the map folds triangle " + std::to_string(t));
     }
   }

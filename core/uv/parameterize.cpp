@@ -48,9 +48,7 @@ std::vector<int> shared_vertex_order(const DiscPatch& patch) {
 }
 
 double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
-  const Vec2 u = b - a;
-  const Vec2 v = c - a;
-  return 0.5 * (u.x() * v.y() - u.y() * v.x());
+  return 0.5 * cross2(a, b, c);
 }
 
 struct Chart {
