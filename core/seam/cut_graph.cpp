@@ -33,6 +33,48 @@ std::vector<VertexId> cut_roots(const Topology& topo, const ConedMesh& coned, co
   return roots;
 }
 
+// The coned mesh's edge graph with every boundary loop of a component that needs cutting
+// contracted into its apex: the loop's vertices have no edges of their own, each of their
+// other edges leaves from the apex, and edges inside the loop (the loop's and the apex's)
+// are gone. A shortest-path tree on it reaches each loop once, by one real edge, so with
+// the loop's spokes added it stays a tree with every loop whole. On the plain coned graph,
+// equal distances (the spokes weigh 0) could hang a loop's vertices from two other loops,
+// whose paths then closed a cycle through the loop and cut a piece off (mesh_fuzz F13).
+EdgeGraph contracted_graph(const HalfedgeMesh& mesh, const ConedMesh& coned, const Topology& topo,
+                           const std::vector<std::uint8_t>& needs, std::vector<VertexId>& node) {
+  const HalfedgeMesh& closed = coned.mesh;
+  const std::size_t nv = closed.num_vertices();
+  node.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) node[v] = VertexId(v);
+  for (std::size_t l = 0; l < topo.boundary_loops.size(); ++l) {
+    if (!needs[topo.boundary_loop_component[l]]) continue;
+    for (HalfedgeId b : topo.boundary_loops[l]) node[mesh.tail(b).index()] = coned.apexes[l];  // same ids in `closed`
+  }
+  EdgeGraph graph;
+  graph.offsets.assign(nv + 1, 0);
+  auto for_each_edge = [&](auto&& f) {
+    for (std::size_t h = 0; h < closed.num_halfedges(); ++h) {
+      const HalfedgeId half(h);
+      const VertexId a = node[closed.tail(half).index()];
+      const VertexId b = node[closed.head(half).index()];
+      if (a != b) f(a, b, half);
+    }
+  };
+  for_each_edge([&](VertexId a, VertexId, HalfedgeId) { ++graph.offsets[a.index() + 1]; });
+  for (std::size_t v = 0; v < nv; ++v) graph.offsets[v + 1] += graph.offsets[v];
+  graph.head.resize(graph.offsets[nv]);
+  graph.halfedge.resize(graph.offsets[nv]);
+  graph.weight.resize(graph.offsets[nv]);
+  std::vector<std::uint32_t> fill(graph.offsets.begin(), graph.offsets.end() - 1);
+  for_each_edge([&](VertexId a, VertexId b, HalfedgeId half) {
+    const std::uint32_t slot = fill[a.index()]++;
+    graph.head[slot] = b;
+    graph.halfedge[slot] = half;
+    graph.weight[slot] = coned.edge_weights[HalfedgeMesh::edge(half).index()];
+  });
+  return graph;
+}
+
 // Cotree: a maximum spanning forest of the dual graph over the edges not in the tree, heaviest
 // loops first, so the leftover edges (added to `in_graph`) close the shortest loops (greedy
 // homotopy basis). Only edges of components that need cutting take part.
@@ -129,12 +171,19 @@ Result<std::vector<EdgeId>> compute_cut_graph(const HalfedgeMesh& mesh, const Ca
     needs_vertex[v] = c != VertexId::kInvalidValue && needs[c];
   }
 
-  const EdgeGraph graph = build_edge_graph(closed, coned.edge_weights);
+  // T: a shortest-path tree of the loops contracted, each loop then joined by its spokes.
+  std::vector<VertexId> node;
+  const EdgeGraph graph = contracted_graph(mesh, coned, topo, needs, node);
   SEAM_TRY(ShortestPathTree spt, dijkstra(graph, cut_roots(topo, coned, needs), {}, cancel));
   std::vector<std::uint8_t> in_graph(closed.num_edges(), 0);  // T, then T plus leftover edges
   for (std::size_t v = 0; v < nv; ++v) {
     const HalfedgeId p = spt.parent[v];
     if (p.valid()) in_graph[HalfedgeMesh::edge(p).index()] = 1;
+    if (node[v].index() != v && spt.reached(node[v])) {
+      // A loop vertex: its spoke, and its loop's distance for the cotree's ordering.
+      in_graph[HalfedgeMesh::edge(closed.find_halfedge(node[v], VertexId(v))).index()] = 1;
+      spt.distance[v] = spt.distance[node[v].index()];
+    }
   }
   if (auto status = add_cotree_leftovers(coned, spt, needs_vertex, in_graph, cancel); !status.ok()) {
     return status.take_error();

@@ -119,6 +119,37 @@ TEST_CASE("real meshes: elephant (genus 3 handles in the CGAL data), knot1, mush
   }
 }
 
+TEST_CASE("a holed part whose loops tie in distance still opens into one disc (mesh_fuzz F13)") {
+  // What repair left of a triangle soup the fuzzer found: genus 0, five boundary loops, on a
+  // lattice, with vertices split where the soup pinched (coincident positions). The spokes
+  // of the coned loops weigh 0, so a loop's vertices tie with the loop's apex; the plain
+  // shortest-path tree hung one loop's vertices from two others, and the cut graph closed a
+  // cycle that cut a piece off (two components, a 400 "no path between terminals").
+  const fx::Soup soup{
+      {Vec3(-49, -49, -30), Vec3(-70, 0, -30),  Vec3(0, 0, -70),   Vec3(-5, -9, -16), Vec3(30, 0, -40),
+       Vec3(-71, -71, 0),   Vec3(-49, -49, 30), Vec3(0, -100, -1), Vec3(-28, -28, 0), Vec3(-40, 0, 0),
+       Vec3(8, 7, -8),      Vec3(-1, -1, -1),   Vec3(7, 7, 11),    Vec3(12, 11, 12),  Vec3(13, 8, 13),
+       Vec3(10, 10, 14),    Vec3(14, 9, 14),    Vec3(15, 10, 15),  Vec3(60, -60, -1), Vec3(8, 12, 16),
+       Vec3(13, 13, 17),    Vec3(14, 14, 18),   Vec3(17, 12, 17),  Vec3(18, 13, 18),  Vec3(19, 14, 19),
+       Vec3(15, 15, 19),    Vec3(-1, 122, -1),  Vec3(0, 0, -70),   Vec3(30, 0, -40),  Vec3(0, -100, -1),
+       Vec3(7, 7, 11),      Vec3(7, 7, 11),     Vec3(9, 9, 13),    Vec3(13, 8, 13),   Vec3(11, 11, 15),
+       Vec3(19, 14, 19),    Vec3(16, 15, 30),   Vec3(0, 0, 60)},
+      {{0, 1, 9},    {0, 4, 5},    {0, 5, 1},    {0, 9, 8},    {1, 5, 25},   {1, 21, 9},   {1, 24, 21},  {2, 10, 3},
+       {27, 28, 8},  {27, 6, 11},  {27, 8, 6},   {27, 11, 26}, {27, 26, 28}, {3, 10, 15},  {3, 14, 12},  {3, 15, 17},
+       {3, 17, 14},  {28, 7, 8},   {28, 26, 37}, {28, 37, 7},  {5, 6, 25},   {5, 29, 11},  {5, 11, 6},   {6, 8, 36},
+       {6, 36, 25},  {29, 18, 11}, {8, 9, 36},   {9, 21, 23},  {9, 23, 36},  {10, 30, 16}, {10, 16, 15}, {30, 32, 16},
+       {12, 14, 32}, {31, 22, 34}, {32, 13, 16}, {32, 14, 17}, {32, 34, 13}, {32, 17, 34}, {13, 33, 16}, {13, 34, 23},
+       {13, 21, 19}, {13, 23, 21}, {15, 16, 19}, {15, 19, 22}, {15, 22, 17}, {34, 20, 23}, {34, 22, 20}, {19, 21, 24},
+       {19, 24, 22}, {20, 22, 24}, {20, 35, 25}, {20, 25, 36}, {20, 36, 23}}};
+  const HalfedgeMesh mesh = fx::build_fixture(soup);
+  const Topology topo = compute_topology(mesh);
+  REQUIRE(topo.components.size() == 1);
+  REQUIRE(topo.boundary_loops.size() == 5);
+  auto cg = compute_cut_graph(mesh);
+  REQUIRE(cg.ok());
+  check_cut_graph(mesh, *cg);
+}
+
 TEST_CASE("cut graph honours cancellation") {
   const HalfedgeMesh mesh = fx::build_fixture(fx::holed_slab(2));
   CancelToken token;
