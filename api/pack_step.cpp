@@ -229,9 +229,14 @@ ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const 
     if (charts.empty()) continue;
     double density = 0;
     if (params.enabled) {
+      const core::PackOptions options{params.texture_size, params.margin_px, params.rotate};
+      if (!core::margins_fit(charts.size(), options)) {
+        return make_api_error(ApiErrorCode::kInvalidParameter, core::margins_message(charts.size(), options),
+                              {{"parameter", "pack.texture_size"}, {"charts", charts.size()}});
+      }
       std::vector<core::PackChart> input;
       for (const auto& c : charts) input.push_back({c.uv, c.triangles, c.area});
-      auto packed = core::pack_charts(input, core::PackOptions{params.texture_size, params.margin_px, params.rotate}, cancel);
+      auto packed = core::pack_charts(input, options, cancel);
       if (!packed.ok()) {
         if (packed.error().code == core::ErrorCode::kCancelled) return from_core(packed.error());
         return make_api_error(ApiErrorCode::kInternal, "packing the UV charts failed: " + packed.error().message);

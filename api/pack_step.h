@@ -41,7 +41,8 @@ struct PackOutcome {
 /// (core::split_sprawling_charts): a piece's vertices on a cut are duplicated in the member's
 /// CutPrimitive (same source vertex and UV), so the output gets the new seams. With
 /// params.enabled false nothing moves and only the measurements are made (each primitive
-/// its own group). Errors: kInternal (the packer refused a chart: a bug
+/// its own group). Errors: kInvalidParameter (a group has more charts than margin_px lets
+/// texture_size hold: core::margins_fit), kInternal (the packer refused a chart: a bug
 /// upstream), kTimeout (cancelled). O(UV vertices + triangles) plus the packer's cost.
 ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const std::vector<PackMember>& members,
                                                  const PackParams& params, const core::CancelToken& cancel);

@@ -237,6 +237,45 @@ std::vector<std::uint32_t> unpaired_edge_ends(const OutEdges& edges) {
   return ends;
 }
 
+// Whether no loop (given by `next`, one head vertex per loop, with its bounding box) winds
+// around another's head, for loops already known to be simple and pairwise disjoint: then no
+// loop lies inside another. The heads are binned on a grid, so each loop tests only the heads
+// in the cells its box meets (a layout of L charts costs O(L), not L^2 box tests). `tests`
+// counts the cells and heads visited and the segments walked; past `budget`, false.
+bool no_loop_holds_another(std::span<const Vec2> uv, const std::vector<std::uint32_t>& next,
+                           const std::vector<std::uint32_t>& heads, const std::vector<Box>& loop_box,
+                           std::size_t& tests, std::size_t budget) {
+  std::vector<Box> points(heads.size());
+  for (std::size_t i = 0; i < heads.size(); ++i) points[i] = {uv[heads[i]], uv[heads[i]]};
+  const Grid g = build_grid(points, std::vector<char>(points.size(), 1));
+  for (std::size_t j = 0; j < heads.size(); ++j) {
+    const Box& b = loop_box[j];
+    for (std::int64_t cy = g.cy(b.lo.y()); cy <= g.cy(b.hi.y()); ++cy) {
+      for (std::int64_t cx = g.cx(b.lo.x()); cx <= g.cx(b.hi.x()); ++cx) {
+        const auto c = static_cast<std::size_t>(cy * g.nx + cx);
+        if ((tests += 1 + g.offset[c + 1] - g.offset[c]) > budget) return false;
+        for (std::uint32_t k = g.offset[c]; k < g.offset[c + 1]; ++k) {
+          const std::uint32_t i = g.items[k];
+          const Vec2& p = uv[heads[i]];
+          if (i == j || p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) continue;
+          int winding = 0;
+          std::uint32_t w = heads[j];
+          do {
+            if ((tests += 1) > budget) return false;
+            const Vec2& u = uv[w];
+            const Vec2& x = uv[next[w]];
+            if (u.y() <= p.y() && x.y() > p.y() && orient2d(u, x, p) > 0) ++winding;
+            if (x.y() <= p.y() && u.y() > p.y() && orient2d(u, x, p) < 0) --winding;
+            w = next[w];
+          } while (w != heads[j]);
+          if (winding != 0) return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
 // Exact test: the boundary loops (given by `next`) are simple, pairwise disjoint (no two
 // segments share a point except consecutive ones at their common vertex), all turn the way
 // `turn` says (+1 counter-clockwise, -1 clockwise), and none lies inside another.
@@ -295,25 +334,7 @@ bool boundary_loops_disjoint(std::span<const Vec2> uv, const std::vector<std::ui
     heads.push_back(v);
     loop_box.push_back(box);
   }
-  for (std::size_t i = 0; i < heads.size(); ++i) {
-    const Vec2& p = uv[heads[i]];
-    for (std::size_t j = 0; j < heads.size(); ++j) {
-      const Box& b = loop_box[j];
-      if (i == j || p.x() < b.lo.x() || p.x() > b.hi.x() || p.y() < b.lo.y() || p.y() > b.hi.y()) continue;
-      int winding = 0;
-      std::uint32_t w = heads[j];
-      do {
-        if ((tests += 1) > budget) return false;
-        const Vec2& u = uv[w];
-        const Vec2& x = uv[next[w]];
-        if (u.y() <= p.y() && x.y() > p.y() && orient2d(u, x, p) > 0) ++winding;
-        if (x.y() <= p.y() && u.y() > p.y() && orient2d(u, x, p) < 0) --winding;
-        w = next[w];
-      } while (w != heads[j]);
-      if (winding != 0) return false;
-    }
-  }
-  return true;
+  return no_loop_holds_another(uv, next, heads, loop_box, tests, budget);
 }
 
 // Exact proof that a layout has no overlap, without testing triangle pairs: every triangle

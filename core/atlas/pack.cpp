@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "core/atlas/profile_pack.h"
 #include "core/atlas/raster_pack.h"
+#include "core/atlas/skyline.h"
 #include "core/timing.h"
 
 namespace seam::core {
@@ -20,76 +23,6 @@ Vec2 rotate(const Vec2& p, double angle) {
   const double s = std::sin(angle);
   return Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y());
 }
-
-// A skyline: segments sorted by x covering [0, width), each at height y.
-struct Segment {
-  double x;
-  double y;
-  double w;
-};
-
-class Skyline {
- public:
-  Skyline(double width, double height) : width_(width), height_(height) { segments_.push_back({0, 0, width}); }
-
-  // Bottom-left position for a w x h rectangle: lowest top, then leftmost. False if none fits.
-  bool find(double w, double h, Vec2& pos, double& top) const {
-    bool found = false;
-    for (std::size_t i = 0; i < segments_.size(); ++i) {
-      const double x = segments_[i].x;
-      if (x + w > width_ * (1 + 1e-12)) break;
-      double y = 0;
-      for (std::size_t j = i; j < segments_.size() && segments_[j].x < x + w; ++j) y = std::max(y, segments_[j].y);
-      if (y + h > height_ * (1 + 1e-12)) continue;
-      if (!found || y + h < top || (y + h == top && x < pos.x())) {
-        found = true;
-        top = y + h;
-        pos = Vec2(x, y);
-      }
-    }
-    return found;
-  }
-
-  void add(const Vec2& pos, double w, double h) {
-    const double x0 = pos.x();
-    const double x1 = pos.x() + w;
-    std::vector<Segment> out;
-    out.reserve(segments_.size() + 2);
-    bool inserted = false;
-    for (const Segment& s : segments_) {
-      const double s1 = s.x + s.w;
-      if (s1 <= x0 || s.x >= x1) {
-        if (!inserted && s.x >= x1) {
-          out.push_back({x0, pos.y() + h, w});
-          inserted = true;
-        }
-        out.push_back(s);
-        continue;
-      }
-      if (s.x < x0) out.push_back({s.x, s.y, x0 - s.x});
-      if (!inserted) {
-        out.push_back({x0, pos.y() + h, w});
-        inserted = true;
-      }
-      if (s1 > x1) out.push_back({x1, s.y, s1 - x1});
-    }
-    if (!inserted) out.push_back({x0, pos.y() + h, w});
-    // Merge neighbours at one height.
-    segments_.clear();
-    for (const Segment& s : out) {
-      if (!segments_.empty() && segments_.back().y == s.y) {
-        segments_.back().w = s.x + s.w - segments_.back().x;
-      } else {
-        segments_.push_back(s);
-      }
-    }
-  }
-
- private:
-  double width_;
-  double height_;
-  std::vector<Segment> segments_;
-};
 
 constexpr std::size_t kMaxProfileCharts = 256;
 // The shape packer: at most this many charts, on a grid of this many cells per side (at the
@@ -107,7 +40,7 @@ struct Slot {
 bool pack_square(const std::vector<Vec2>& sizes, const std::vector<std::size_t>& order, double side,
                  double margin_fraction, bool rotate, std::vector<Slot>& slots) {
   const double m = margin_fraction * side;
-  Skyline sky(side, side);
+  detail::Skyline sky(side, side);
   slots.assign(sizes.size(), Slot{});
   for (std::size_t idx : order) {
     const double w = sizes[idx].x() + m;
@@ -132,22 +65,39 @@ bool pack_square(const std::vector<Vec2>& sizes, const std::vector<std::size_t>&
   return true;
 }
 
-// The smallest square side (by bisection) that the order packs into, and its slots.
-double smallest_square(const std::vector<Vec2>& sizes, const std::vector<std::size_t>& order,
-                       double margin_fraction, bool rotate, std::vector<Slot>& slots) {
+// The smallest side L that could hold the rectangles with their margins: n cells of
+// (w + fL) x (h + fL) cover at most L^2, so L^2 (1 - n f^2) - L f sum(w + h) - sum(w h) >= 0,
+// and the longest side fits: longest + fL <= L. Needs n f^2 < 1 (margins_fit).
+double side_lower_bound(const std::vector<Vec2>& sizes, double margin_fraction) {
+  const double f = margin_fraction;
   double area = 0;
+  double perimeter = 0;
   double longest = 0;
   for (const Vec2& s : sizes) {
     area += s.x() * s.y();
+    perimeter += s.x() + s.y();
     longest = std::max(longest, s.maxCoeff());  // a square fits a rectangle only by its long side
   }
-  double lo = std::max(std::sqrt(area), longest);
-  double hi = lo;
+  const double a = 1 - static_cast<double>(sizes.size()) * f * f;
+  const double b = f * perimeter;
+  return std::max((b + std::sqrt(b * b + 4 * a * area)) / (2 * a), longest / (1 - f));
+}
+
+// The smallest square side (by bisection, to 1e-4 of the side) that the order packs into, and
+// its slots. `beat`, the best side of another order: first tried 1e-4 below it, and if the
+// order does not pack there it is not bisected (nullopt), so a losing order costs one pass.
+// Also nullopt if no square up to 1.1^200 times the lower bound holds the charts (margins_fit
+// rules that out).
+std::optional<double> smallest_square(const std::vector<Vec2>& sizes, const std::vector<std::size_t>& order,
+                                      double margin_fraction, bool rotate, double beat, std::vector<Slot>& slots) {
+  double lo = side_lower_bound(sizes, margin_fraction);
+  double hi = std::isfinite(beat) ? std::max(lo, beat * (1 - 1e-4)) : lo;
   std::vector<Slot> trial;
   int grow = 0;
-  while (!pack_square(sizes, order, hi, margin_fraction, rotate, trial) && grow < 200) {
+  while (!pack_square(sizes, order, hi, margin_fraction, rotate, trial)) {
+    if (std::isfinite(beat) || ++grow > 200) return std::nullopt;
+    lo = hi;
     hi *= 1.1;
-    ++grow;
   }
   slots = trial;
   for (int it = 0; it < 24 && hi - lo > 1e-4 * hi; ++it) {
@@ -162,6 +112,26 @@ double smallest_square(const std::vector<Vec2>& sizes, const std::vector<std::si
   return hi;
 }
 
+}  // namespace
+
+bool margins_fit(std::size_t charts, const PackOptions& options) {
+  const double f = std::max(options.margin_px / options.texture_size, 1e-6);
+  return static_cast<double>(charts) * f * f < 1;
+}
+
+std::string margins_message(std::size_t charts, const PackOptions& options) {
+  const double root = std::sqrt(static_cast<double>(charts));
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "pack: %zu charts %g px apart do not fit a %d px texture: their margins alone would cover it "
+                "(%zu x %g^2 texels >= %d^2); use texture_size above %.0f or margin_px below %.3g",
+                charts, options.margin_px, options.texture_size, charts, options.margin_px, options.texture_size,
+                std::floor(options.margin_px * root), options.texture_size / root);
+  return text;
+}
+
+namespace {
+
 Status validate(std::span<const PackChart> charts, const PackOptions& options) {
   if (options.texture_size < 16 || options.texture_size > 65536) {
     return make_error(ErrorCode::kInvalidArgument,
@@ -169,6 +139,9 @@ Status validate(std::span<const PackChart> charts, const PackOptions& options) {
   }
   if (!(options.margin_px >= 0 && options.margin_px <= options.texture_size / 8.0)) {
     return make_error(ErrorCode::kInvalidArgument, "pack: margin_px must be in 0..texture_size/8");
+  }
+  if (!margins_fit(charts.size(), options)) {
+    return make_error(ErrorCode::kInvalidArgument, margins_message(charts.size(), options));
   }
   return validate_pack_charts(charts);
 }
@@ -453,9 +426,10 @@ Layout rectangle_layout(const Prepared& prepared, double margin_fraction, bool r
     };
     for (const auto& order : orders) {
       std::vector<Slot> trial;
-      const double side = smallest_square(sizes, order, margin_fraction, rotate_charts, trial);
-      if (side < best.side) {
-        best.side = side;
+      const std::optional<double> side =
+          smallest_square(sizes, order, margin_fraction, rotate_charts, best.side, trial);
+      if (side && *side < best.side) {
+        best.side = *side;
         best_rect = rect;
         slots = std::move(trial);
       }
@@ -475,6 +449,7 @@ Layout rectangle_layout(const Prepared& prepared, double margin_fraction, bool r
     }
     if (any) pack_all(alt);
   }
+  if (slots.size() != n) return best;  // no order packed (margins_fit rules that out): side stays infinite
   for (std::size_t c = 0; c < n; ++c) {
     const Vec2 corner = slots[c].pos + Vec2::Constant(0.5 * margin_fraction * best.side);
     best.slots.push_back(in_rect(best_rect[c], slots[c].turned ? 1 : 0, corner));
@@ -574,6 +549,10 @@ Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOpti
   // so that rounding cannot make neighbours overlap.
   const double margin_fraction = std::max(options.margin_px / options.texture_size, 1e-6);
   Layout layout = rectangle_layout(prepared, margin_fraction, options.rotate);
+  if (!std::isfinite(layout.side)) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "pack: no square holds the " + std::to_string(charts.size()) + " charts with their margins");
+  }
   if (cancel.is_cancelled()) return cancelled_error("pack");
   try_profile_layout(charts, prepared, margin_fraction, options.rotate, layout);
   if (cancel.is_cancelled()) return cancelled_error("pack");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/cancel.h"
@@ -80,7 +81,8 @@ struct PackResult {
 /// margin_px texels apart at texture_size (their points differ by that much along x or y)
 /// and margin_px/2 from the border; with margin_px = 0 they are still 1e-6 of the atlas apart,
 /// so they never touch.
-/// Errors: kInvalidArgument (options out of range, a chart with no triangles, non-positive or
+/// Errors: kInvalidArgument (options out of range, more charts than margins_fit allows, a
+/// chart with no triangles, non-positive or
 /// non-finite surface_area, or zero UV area; the message names the chart), kIndexOutOfRange
 /// (a triangle names a missing UV), kNonFinitePosition (a UV is NaN or infinite), kCancelled.
 /// Complexity: O(sum of H_i^2) for the rectangles (H_i hull sizes); packer (1) about 40
@@ -93,6 +95,13 @@ struct PackResult {
 /// triangles: 77-195 ms of CPU (bench/atlas_bench.cpp).
 Result<PackResult> pack_charts(std::span<const PackChart> charts, const PackOptions& options = {},
                                const CancelToken& cancel = CancelToken::none());
+
+/// Whether `charts` charts can be packed at all: each keeps margin_px to its neighbours, so n
+/// charts need n * margin_px^2 < texture_size^2 (with margin_px = 0, 1e-6 of the side). O(1).
+bool margins_fit(std::size_t charts, const PackOptions& options);
+
+/// Why margins_fit is false, with the texture size and the margin that would fit.
+std::string margins_message(std::size_t charts, const PackOptions& options);
 
 /// Checks charts as pack_charts does. Errors: kInvalidArgument (a chart with no triangles, or
 /// a non-positive or non-finite surface_area; the message names the chart), kIndexOutOfRange
