@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <unordered_set>
 #include <utility>
 
 #include "api/surface.h"
@@ -176,12 +177,9 @@ ApiResult<std::vector<core::VertexId>> resolve_extrema(const ExtremaSpec& spec, 
   std::vector<core::VertexId> result;
   // Copies of one input vertex (pinched or repaired splits) are one extremum: the response
   // names input vertices, and it never names one twice.
+  std::unordered_set<std::uint32_t> inputs;
   auto add = [&](core::VertexId v) {
-    const std::uint32_t input = canon.vertex_to_input[v.index()];
-    if (std::none_of(result.begin(), result.end(),
-                     [&](core::VertexId u) { return canon.vertex_to_input[u.index()] == input; })) {
-      result.push_back(v);
-    }
+    if (inputs.insert(canon.vertex_to_input[v.index()]).second) result.push_back(v);
   };
   if (spec.automatic) {
     std::vector<core::VertexId> excluded;
@@ -245,12 +243,10 @@ json seam_summary(const core::SeamResult& seam, const std::vector<core::EdgeId>&
   // First occurrence kept: copies of one input vertex (splits, cut) are listed once.
   auto vertex_list = [&](const std::vector<core::VertexId>& vs) {
     json out = json::array();
-    std::vector<std::uint32_t> seen;
+    std::unordered_set<std::uint32_t> seen;
     for (auto v : vs) {
       const std::uint32_t i = input_of(v);
-      if (std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
-      seen.push_back(i);
-      out.push_back(i);
+      if (seen.insert(i).second) out.push_back(i);
     }
     return out;
   };

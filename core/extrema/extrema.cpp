@@ -32,8 +32,10 @@ struct LocalVisitor {
   OnImprove& on_improve;
   std::size_t max_settled;
   double* last_settled;
+  double stop_at;
 
   SettleAction settle(std::uint32_t v, double) {
+    if (dist[v] >= stop_at) return SettleAction::kStop;
     if (last_settled) *last_settled = dist[v];
     return max_settled-- == 0 ? SettleAction::kStop : SettleAction::kExpand;
   }
@@ -57,18 +59,20 @@ struct LocalVisitor {
 // distance drops, with the vertex it was reached from (kNone for a source).
 // With `max_settled`, stops after settling that many vertices and reports the last settled
 // distance in `*last_settled`: every distance below it is final (the heap is then left
-// non-empty and must be discarded).
+// non-empty and must be emptied or discarded). With `stop_at`, stops at the first vertex at
+// that distance or beyond: every distance below it is final.
 template <class OnImprove>
 Status relax_from(const EdgeGraph& graph, const Component& comp, const std::vector<std::uint32_t>& local_of,
                   std::span<const std::uint32_t> sources, std::vector<double>& distance, IndexedHeap& heap,
                   const CancelToken& cancel, OnImprove&& on_improve,
-                  std::size_t max_settled = std::numeric_limits<std::size_t>::max(), double* last_settled = nullptr) {
+                  std::size_t max_settled = std::numeric_limits<std::size_t>::max(), double* last_settled = nullptr,
+                  double stop_at = kInf) {
   for (std::uint32_t source : sources) {
     distance[source] = 0.0;
     on_improve(source, kNone);
     heap.push_or_decrease(source);
   }
-  LocalVisitor<OnImprove> visitor{comp, local_of, distance, heap, on_improve, max_settled, last_settled};
+  LocalVisitor<OnImprove> visitor{comp, local_of, distance, heap, on_improve, max_settled, last_settled, stop_at};
   return run_dijkstra(graph, heap, visitor, cancel, "extrema detection");
 }
 
@@ -170,8 +174,8 @@ Result<std::vector<std::int64_t>> fixed_point_weighted_sums(const EdgeGraph& gra
                                                             unsigned threads, const CancelToken& cancel) {
   const std::size_t n = comp.vertices.size();
   auto nothing = [](std::uint32_t, std::uint32_t) {};
-  const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t wanted = threads == 0 ? hw : threads;
+  // hardware_concurrency reads /sys on every call: only when asked for, not once per part.
+  const std::size_t wanted = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
   const std::size_t num_threads = std::clamp<std::size_t>(std::min(wanted, n * sources.size() / kMinSettlesPerThread), 1,
                                                           sources.size());
   std::vector<std::vector<std::int64_t>> partial(num_threads);
@@ -547,25 +551,38 @@ double bbox_diagonal(const HalfedgeMesh& mesh, std::span<const std::uint32_t> ve
 }
 
 // `peaks` (most prominent first) without those within `radius` (geodesic) of a kept one; at
-// most `max_count` (0: no limit). One Dijkstra bounded by the radius per candidate.
-Result<std::vector<Peak>> separated(const EdgeGraph& graph, const Component& comp, std::vector<Peak> peaks,
-                                    double radius, std::size_t max_count, const CancelToken& cancel) {
+// most `max_count` (0: no limit). One Dijkstra bounded by the radius per candidate, on the
+// component's local numbering: arrays of the component's size, so a mesh of many small parts
+// costs O(its size) in all, not O(parts x mesh).
+Result<std::vector<Peak>> separated(const EdgeGraph& graph, const Component& comp,
+                                    const std::vector<std::uint32_t>& local_of, std::vector<Peak> peaks, double radius,
+                                    std::size_t max_count, const CancelToken& cancel) {
   std::vector<Peak> kept;
-  std::vector<std::uint8_t> is_kept(graph.num_vertices(), 0);
+  if (peaks.empty()) return kept;
+  const std::size_t n = comp.vertices.size();
+  std::vector<std::uint8_t> is_kept(n, 0);
+  std::vector<double> distance(n, kInf);
+  std::vector<std::uint32_t> reached;
+  IndexedHeap heap(distance, n);
+  auto track = [&](std::uint32_t w, std::uint32_t) { reached.push_back(w); };  // to reset (repeats are harmless)
   for (const Peak& p : peaks) {
     if (max_count > 0 && kept.size() >= max_count) break;
-    const VertexId v(comp.vertices[p.local]);
-    if (is_kept[v.index()]) continue;  // never one vertex twice (coarse cells share seeds)
+    if (is_kept[p.local]) continue;  // never one vertex twice (coarse cells share seeds)
     bool near = false;
     if (radius > 0 && !kept.empty()) {
-      DijkstraOptions options;
-      options.max_distance = radius;
-      SEAM_TRY(const ShortestPathTree tree, dijkstra(graph, std::span<const VertexId>(&v, 1), options, cancel));
-      near = std::any_of(kept.begin(), kept.end(),
-                         [&](const Peak& k) { return tree.distance[comp.vertices[k.local]] < radius; });
+      for (std::uint32_t w : reached) distance[w] = kInf;  // the previous candidate's search
+      reached.clear();
+      while (!heap.empty()) detail::pop_min(heap);
+      const std::uint32_t source[] = {p.local};
+      if (auto st = relax_from(graph, comp, local_of, std::span<const std::uint32_t>(source), distance, heap, cancel,
+                               track, std::numeric_limits<std::size_t>::max(), nullptr, radius);
+          !st.ok()) {
+        return st.take_error();
+      }
+      near = std::any_of(kept.begin(), kept.end(), [&](const Peak& k) { return distance[k.local] < radius; });
     }
     if (near) continue;
-    is_kept[v.index()] = 1;
+    is_kept[p.local] = 1;
     kept.push_back(p);
   }
   return kept;
@@ -620,8 +637,8 @@ Result<ExtremaResult> detect_extrema(const HalfedgeMesh& mesh, const Topology& t
     std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) {
       return a.prominence != b.prominence ? a.prominence > b.prominence : a.local < b.local;
     });
-    SEAM_TRY(peaks, separated(graph, comp, std::move(peaks), options.min_separation * diagonal, options.max_count,
-                              cancel));
+    SEAM_TRY(peaks, separated(graph, comp, local_of, std::move(peaks), options.min_separation * diagonal,
+                              options.max_count, cancel));
     for (const Peak& p : peaks) {
       Extremum e;
       e.vertex = VertexId(comp.vertices[p.local]);

@@ -148,8 +148,8 @@ Result<TerminalPaths> compute_terminal_paths(const SearchSurface& surface, std::
       }
     }
   };
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const unsigned n = static_cast<unsigned>(std::min<std::size_t>(k - 1, threads == 0 ? hw : threads));
+  const unsigned wanted = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned n = static_cast<unsigned>(std::min<std::size_t>(k - 1, wanted));
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < n; ++t) pool.emplace_back(work);
   work();

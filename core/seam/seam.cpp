@@ -479,6 +479,7 @@ Result<ComponentSeam> seam_on_component(const HalfedgeMesh& mesh, const Topology
 Result<std::vector<VertexId>> distinct_extrema(const HalfedgeMesh& mesh, std::span<const VertexId> extrema) {
   const std::size_t nv = mesh.num_vertices();
   std::vector<VertexId> distinct;
+  std::vector<char> seen(nv, 0);  // not a search of `distinct`: thousands of parts bring thousands of extrema
   for (VertexId x : extrema) {
     if (!x.valid() || x.index() >= nv) {
       return make_error(ErrorCode::kIndexOutOfRange,
@@ -490,7 +491,8 @@ Result<std::vector<VertexId>> distinct_extrema(const HalfedgeMesh& mesh, std::sp
       return make_error(ErrorCode::kIndexOutOfRange,
                         "extremum " + std::to_string(x.value()) + " is an isolated vertex (in no face)", {x.value()});
     }
-    if (std::find(distinct.begin(), distinct.end(), x) == distinct.end()) distinct.push_back(x);
+    if (!seen[x.index()]) distinct.push_back(x);
+    seen[x.index()] = 1;
   }
   return distinct;
 }
@@ -596,10 +598,10 @@ Result<SeamResult> compute_seam(const HalfedgeMesh& mesh, const Topology& topo, 
   sort_unique(result.cut_graph_edges);
   sort_unique(extra_terminals);
   result.terminals = result.extrema;
+  std::vector<char> is_terminal(mesh.num_vertices(), 0);
+  for (VertexId t : result.extrema) is_terminal[t.index()] = 1;
   for (VertexId t : extra_terminals) {
-    if (std::find(result.terminals.begin(), result.terminals.end(), t) == result.terminals.end()) {
-      result.terminals.push_back(t);
-    }
+    if (!is_terminal[t.index()]) result.terminals.push_back(t);  // extra_terminals is sorted and unique
   }
 
   const SteinerTree summary = make_steiner_tree(mesh, result.seam_edges, result.terminals);
