@@ -77,12 +77,15 @@ struct Grid {
   std::vector<std::uint32_t> offset;  // CSR: cell -> triangles
   std::vector<std::uint32_t> items;
 
-  std::int64_t cx(double x) const {
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>((x - origin.x()) * inv_cell), 0, nx - 1);
+  // Clamped before the conversion: a query may lie far outside the grid's items (a loop's box
+  // around its head points), where the cell number does not fit an integer.
+  static std::int64_t cell(double offset, double inv_cell, std::int64_t n) {
+    const double c = offset * inv_cell;
+    if (!(c > 0)) return 0;
+    return c >= static_cast<double>(n - 1) ? n - 1 : static_cast<std::int64_t>(c);
   }
-  std::int64_t cy(double y) const {
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>((y - origin.y()) * inv_cell), 0, ny - 1);
-  }
+  std::int64_t cx(double x) const { return cell(x - origin.x(), inv_cell, nx); }
+  std::int64_t cy(double y) const { return cell(y - origin.y(), inv_cell, ny); }
 };
 
 struct Box {
