@@ -114,8 +114,13 @@ Grid build_grid(const std::vector<Box>& boxes, const std::vector<char>& live) {
   if (!(cell > 0)) cell = std::max(extent.x(), extent.y()) / cells;
   g.origin = lo;
   g.inv_cell = 1.0 / cell;
-  g.nx = std::clamp<std::int64_t>(static_cast<std::int64_t>(extent.x() / cell) + 1, 1, 1 << 22);
-  g.ny = std::clamp<std::int64_t>(static_cast<std::int64_t>(extent.y() / cell) + 1, 1, 1 << 22);
+  // Clamped as doubles: a layout thin in one direction makes the cell tiny, and its cell count
+  // along the other would not fit an integer.
+  auto along = [&](double length) {
+    return static_cast<std::int64_t>(std::clamp(std::floor(length / cell) + 1, 1.0, double{1 << 22}));
+  };
+  g.nx = along(extent.x());
+  g.ny = along(extent.y());
   while (g.nx * g.ny > (std::int64_t{1} << 23)) {  // a very thin layout: coarsen
     g.inv_cell *= 0.5;
     g.nx = (g.nx + 1) / 2;
