@@ -110,8 +110,9 @@ Grid build_grid(const std::vector<Box>& boxes, const std::vector<char>& live) {
   if (count == 0) return g;
   const Vec2 extent = (hi - lo).cwiseMax(1e-300);
   const double cells = std::min<double>(static_cast<double>(count), 1 << 22);
-  double cell = std::sqrt(extent.x() * extent.y() / cells);
-  if (!(cell > 0)) cell = std::max(extent.x(), extent.y()) / cells;
+  // About `cells` cells: square ones, or for a layout thinner than that (one row), as many
+  // along its length.
+  const double cell = std::max(std::sqrt(extent.x() * extent.y() / cells), std::max(extent.x(), extent.y()) / cells);
   g.origin = lo;
   g.inv_cell = 1.0 / cell;
   // Clamped as doubles: a layout thin in one direction makes the cell tiny, and its cell count
