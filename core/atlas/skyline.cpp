@@ -48,8 +48,16 @@ void Skyline::add(const Vec2& pos, double w, double h) {
   const auto lo = first == segments_.begin() ? first : first - 1;
   const auto hi = last == segments_.end() ? last : last + 1;
 
+  // The window rebuilt left to right; a piece at the height of the one before it extends it.
   std::vector<SkylineSegment> out;
   out.reserve(static_cast<std::size_t>(hi - lo) + 2);
+  auto emit = [&](const SkylineSegment& s) {
+    if (!out.empty() && out.back().y == s.y) {
+      out.back().w = s.x + s.w - out.back().x;
+    } else {
+      out.push_back(s);
+    }
+  };
   bool inserted = false;
   const SkylineSegment raised{x0, pos.y() + h, w};
   for (auto it = lo; it != hi; ++it) {
@@ -57,32 +65,23 @@ void Skyline::add(const Vec2& pos, double w, double h) {
     const double s1 = s.x + s.w;
     if (s1 <= x0 || s.x >= x1) {
       if (!inserted && s.x >= x1) {
-        out.push_back(raised);
+        emit(raised);
         inserted = true;
       }
-      out.push_back(s);
+      emit(s);
       continue;
     }
-    if (s.x < x0) out.push_back({s.x, s.y, x0 - s.x});
+    if (s.x < x0) emit({s.x, s.y, x0 - s.x});
     if (!inserted) {
-      out.push_back(raised);
+      emit(raised);
       inserted = true;
     }
-    if (s1 > x1) out.push_back({x1, s.y, s1 - x1});
+    if (s1 > x1) emit({x1, s.y, s1 - x1});
   }
-  if (!inserted) out.push_back(raised);
-  std::vector<SkylineSegment> merged;
-  merged.reserve(out.size());
-  for (const SkylineSegment& s : out) {
-    if (!merged.empty() && merged.back().y == s.y) {
-      merged.back().w = s.x + s.w - merged.back().x;
-    } else {
-      merged.push_back(s);
-    }
-  }
+  if (!inserted) emit(raised);
 
   const auto at = segments_.erase(lo, hi);
-  segments_.insert(at, merged.begin(), merged.end());
+  segments_.insert(at, out.begin(), out.end());
 }
 
 }  // namespace seam::core::detail
