@@ -6,11 +6,7 @@ namespace seam::core {
 
 PathSearch::PathSearch(const EdgeGraph& graph)
     : graph_(&graph),
-      dist_(graph.num_vertices(), kUnreached),
-      parent_(graph.num_vertices()),
-      stamp_(graph.num_vertices(), 0),
-      settled_(graph.num_vertices(), 0),
-      is_source_(graph.num_vertices(), 0),
+      nodes_(graph.num_vertices()),
       mark_(graph.num_vertices(), kFree),
       is_target_(graph.num_vertices(), 0) {}
 
@@ -29,38 +25,24 @@ void PathSearch::clear_marks() {
   marked_.clear();
 }
 
-void PathSearch::first_touch(std::uint32_t v) {
-  stamp_[v] = generation_;
-  dist_[v] = kUnreached;
-  parent_[v] = HalfedgeId();
-  settled_[v] = 0;
-  is_source_[v] = 0;
-  touched_.push_back(v);
-}
-
 void PathSearch::reset() {
-  // A new generation invalidates every stamp at once; the flags that are read without a
-  // stamp check are cleared through the touched list.
-  for (std::uint32_t v : touched_) {
-    settled_[v] = 0;
-    is_source_[v] = 0;
-  }
-  touched_.clear();
+  // A new generation unsets every record at once.
   settled_order_.clear();
   heap_.clear();
-  if (++generation_ == 0) {
-    std::fill(stamp_.begin(), stamp_.end(), 0u);
-    generation_ = 1;
+  generation_ += kGenerationStep;
+  if (generation_ == 0) {
+    std::fill(nodes_.begin(), nodes_.end(), Node{});
+    generation_ = kGenerationStep;
   }
 }
 
 void PathSearch::add_source(VertexId v, double offset) {
   const std::uint32_t i = v.value();
-  touch(i);
-  if (offset < dist_[i]) {
-    dist_[i] = offset;
-    parent_[i] = HalfedgeId();
-    is_source_[i] = 1;
+  Node& n = touch(i);
+  if (offset < n.dist) {
+    n.dist = offset;
+    n.parent = HalfedgeId();
+    n.state |= kSource;
     heap_.push(offset, i);
   }
 }
@@ -72,18 +54,18 @@ struct PathSearch::Visitor {
   Key key;
 
   SettleAction settle(std::uint32_t v, double popped_key) { return on_settle(v, popped_key); }
-  double distance(std::uint32_t v) const { return search.dist_[v]; }
+  double distance(std::uint32_t v) const { return search.nodes_[v].dist; }
   static std::uint32_t graph_vertex(std::uint32_t v) { return v; }
   bool enters(std::uint32_t w) {
     if (search.mark_[w] == kForbidden) return false;
-    search.touch(w);
-    return !search.settled_[w];
+    return !settled(search.touch(w));
   }
   void relax(std::uint32_t /*v*/, std::uint32_t w, double nd, std::uint32_t slot) {
     PathSearch& s = search;
-    if (nd < s.dist_[w]) {
-      s.dist_[w] = nd;
-      s.parent_[w] = s.graph_->halfedge[slot];
+    Node& n = s.nodes_[w];
+    if (nd < n.dist) {
+      n.dist = nd;
+      n.parent = s.graph_->halfedge[slot];
       s.heap_.push(key(w, nd), w);
     }
   }
@@ -98,9 +80,10 @@ Status PathSearch::run_impl(std::span<const VertexId> targets, double max_distan
   }
   if (nearest_only && targets_left > 1) targets_left = 1;
   auto on_settle = [&](std::uint32_t v, double d) {
-    if (settled_[v] || d > dist_[v]) return SettleAction::kSkip;  // stale entry
+    Node& n = nodes_[v];
+    if (settled(n) || d > n.dist) return SettleAction::kSkip;  // stale entry
     if (d > max_distance) return SettleAction::kStop;
-    settled_[v] = 1;
+    n.state |= kSettled;
     settled_order_.push_back(VertexId(v));
     if (settled_order_.size() >= max_settled_) return SettleAction::kStop;
     if (is_target_[v] && --targets_left == 0) return SettleAction::kStop;
@@ -124,9 +107,10 @@ Status PathSearch::run_astar(VertexId target, std::span<const Vec3> positions, s
   heap_.rekey(estimate);
   const std::uint32_t t = target.value();
   auto on_settle = [&](std::uint32_t v, double) {
-    if (settled_[v]) return SettleAction::kSkip;
+    Node& n = nodes_[v];
+    if (settled(n)) return SettleAction::kSkip;
     // With a consistent estimate the first pop of v carries its final distance.
-    settled_[v] = 1;
+    n.state |= kSettled;
     settled_order_.push_back(VertexId(v));
     if (v == t) return SettleAction::kStop;
     return expand_unless_blocked(v);

@@ -1,6 +1,6 @@
 // A reusable Dijkstra workspace for the many small searches of the skeleton seam (§4.4
 // straightening, Steiner point relocation): buffers are allocated once per mesh and reset
-// in time proportional to what the last search touched, not to the mesh size.
+// in constant time (a new generation), not in time proportional to the mesh size.
 #pragma once
 
 #include <cstdint>
@@ -36,7 +36,7 @@ class PathSearch {
   bool is_blocked(VertexId v) const { return mark_[v.index()] == kBlocked; }
   bool is_forbidden(VertexId v) const { return mark_[v.index()] == kForbidden; }
 
-  /// Starts a new search: forgets the previous one's distances. O(touched by the last run).
+  /// Starts a new search: forgets the previous one's distances. O(1) (O(V) once in 2^30 resets).
   void reset();
   /// Adds a source at distance `offset` (>= 0); a repeated source keeps its smaller offset.
   void add_source(VertexId v, double offset = 0.0);
@@ -78,12 +78,14 @@ class PathSearch {
 
   /// Settled distance of v from the sources, kUnreached if not settled by the last run.
   double distance(VertexId v) const {
-    return stamp_[v.index()] == generation_ && settled_[v.index()] ? dist_[v.index()] : kUnreached;
+    const Node& n = nodes_[v.index()];
+    return current(n) && settled(n) ? n.dist : kUnreached;
   }
   bool reached(VertexId v) const { return distance(v) != kUnreached; }
   /// Half-edge into v on its shortest path (invalid at a source or when unreached).
   HalfedgeId parent(VertexId v) const {
-    return stamp_[v.index()] == generation_ ? parent_[v.index()] : HalfedgeId();
+    const Node& n = nodes_[v.index()];
+    return current(n) ? n.parent : HalfedgeId();
   }
   /// The path from its source to v, in order; empty when v is a source or unreached.
   std::vector<HalfedgeId> path_to(const HalfedgeMesh& mesh, VertexId v) const;
@@ -95,36 +97,45 @@ class PathSearch {
   static constexpr std::uint8_t kBlocked = 1;
   static constexpr std::uint8_t kForbidden = 2;
 
-  // Gives v this search's defaults the first time the search meets it: the check inline
-  // (every relaxation makes it), the reset out of line.
-  void touch(std::uint32_t v) {
-    if (stamp_[v] != generation_) first_touch(v);
+  // What a search keeps per vertex, in one 16-byte record so that relaxing an edge reads one
+  // cache line: the distance, the half-edge in, and `state`: the run's generation (a multiple
+  // of 4) plus the settled and source flags. A record of an older generation is unset.
+  static constexpr std::uint32_t kSettled = 1;
+  static constexpr std::uint32_t kSource = 2;
+  static constexpr std::uint32_t kGenerationStep = 4;
+  struct Node {
+    double dist = kUnreached;
+    HalfedgeId parent;
+    std::uint32_t state = 0;
+  };
+  static_assert(sizeof(Node) == 16);
+  bool current(const Node& n) const { return (n.state & ~(kSettled | kSource)) == generation_; }
+  static bool settled(const Node& n) { return n.state & kSettled; }
+  // Gives v this search's defaults the first time the search meets it.
+  Node& touch(std::uint32_t v) {
+    Node& n = nodes_[v];
+    if (!current(n)) n = Node{kUnreached, HalfedgeId(), generation_};
+    return n;
   }
-  void first_touch(std::uint32_t v);
   // The visitor of run_dijkstra (dijkstra_kernel.h): `OnSettle` decides for a popped entry,
   // `Key(w, nd)` is the heap key of an improved vertex (nd, or nd plus the A* estimate).
   template <class OnSettle, class Key>
   struct Visitor;
   // Settled v is expanded unless it is blocked and not a source.
   SettleAction expand_unless_blocked(std::uint32_t v) const {
-    return mark_[v] == kBlocked && !is_source_[v] ? SettleAction::kSkip : SettleAction::kExpand;
+    return mark_[v] == kBlocked && !(nodes_[v].state & kSource) ? SettleAction::kSkip : SettleAction::kExpand;
   }
   Status run_impl(std::span<const VertexId> targets, double max_distance, bool nearest_only,
                   const CancelToken& cancel);
 
   const EdgeGraph* graph_;
-  std::vector<double> dist_;
-  std::vector<HalfedgeId> parent_;
-  std::vector<std::uint32_t> stamp_;  // == generation_ when dist_/parent_ belong to this run
-  std::vector<std::uint8_t> settled_;
-  std::vector<std::uint8_t> is_source_;
+  std::vector<Node> nodes_;
   std::vector<std::uint8_t> mark_;
   std::vector<std::uint32_t> marked_;
-  std::vector<std::uint32_t> touched_;
   std::vector<VertexId> settled_order_;
   LazyHeap heap_;
   std::vector<std::uint8_t> is_target_;
-  std::uint32_t generation_ = 1;
+  std::uint32_t generation_ = kGenerationStep;
   std::size_t max_settled_ = SIZE_MAX;
 };
 
