@@ -86,9 +86,9 @@ std::vector<ChartData> packable_charts(const PrimitiveResult& r, std::size_t mem
 void detach_piece(const core::ChartPiece& piece, const ChartData& chart, std::vector<char>& claimed, PrimitiveResult& r) {
   const auto id = static_cast<std::uint32_t>(r.chart_area.size());
   r.chart_area.push_back(piece.surface_area);
-  std::map<std::uint32_t, std::uint32_t> vertex_of;  // chart-local vertex -> output vertex
-  for (const std::uint32_t u : piece.vertices) {
-    std::uint32_t g = chart.vertices[u];
+  std::vector<std::uint32_t> vertex_of(piece.vertices.size());  // piece-local vertex -> output vertex
+  for (std::size_t i = 0; i < piece.vertices.size(); ++i) {
+    std::uint32_t g = chart.vertices[piece.vertices[i]];
     if (claimed[g] != 0) {
       const auto copy = static_cast<std::uint32_t>(r.cut.source_vertex.size());
       r.cut.source_vertex.push_back(r.cut.source_vertex[g]);
@@ -99,14 +99,12 @@ void detach_piece(const core::ChartPiece& piece, const ChartData& chart, std::ve
     }
     claimed[g] = 1;
     r.chart[g] = id;
-    vertex_of[u] = g;
+    vertex_of[i] = g;
   }
-  std::map<core::Triangle, std::uint32_t> triangle_of;  // chart-local triangle -> cut triangle
-  for (std::size_t i = 0; i < chart.triangles.size(); ++i) triangle_of[chart.triangles[i]] = chart.triangle_ids[i];
-  for (const core::Triangle& t : piece.triangles) {  // over piece.vertices
-    const core::Triangle in_chart{piece.vertices[t[0]], piece.vertices[t[1]], piece.vertices[t[2]]};
-    r.cut.triangles[triangle_of.at(in_chart)] = {vertex_of.at(in_chart[0]), vertex_of.at(in_chart[1]),
-                                                 vertex_of.at(in_chart[2])};
+  // Each triangle by its place in the chart, not by its corners: duplicate faces share them.
+  for (std::size_t i = 0; i < piece.triangles.size(); ++i) {
+    const core::Triangle& t = piece.triangles[i];
+    r.cut.triangles[chart.triangle_ids[piece.chart_triangles[i]]] = {vertex_of[t[0]], vertex_of[t[1]], vertex_of[t[2]]};
   }
 }
 

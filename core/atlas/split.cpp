@@ -236,7 +236,7 @@ Result<SplitResult> split_sprawling_charts(std::span<const PackChart> charts, co
     // Edges by the pieces that use them: an edge of two pieces is a cut, of one use a border.
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<int, 2>> edges;  // {uses, first piece}
     for (std::size_t p = 0; p < pieces.size(); ++p) {
-      ChartPiece out{c, {}, {}, chart.surface_area * pieces[p].area / uv_area};
+      ChartPiece out{c, {}, {}, pieces[p].triangles, chart.surface_area * pieces[p].area / uv_area};
       std::map<std::uint32_t, std::uint32_t> local;
       for (std::uint32_t t : pieces[p].triangles) {
         Triangle tri;

@@ -31,6 +31,9 @@ struct ChartPiece {
   std::size_t chart = 0;
   std::vector<std::uint32_t> vertices;
   std::vector<Triangle> triangles;
+  /// For each of `triangles`, its index in the chart's triangles (a chart may hold the same
+  /// triangle twice: duplicate faces stay in the asset).
+  std::vector<std::uint32_t> chart_triangles;
   /// The chart's surface_area times the piece's share of the chart's UV area, so the piece
   /// packs at the chart's own scale.
   double surface_area = 0;

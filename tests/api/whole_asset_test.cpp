@@ -369,4 +369,55 @@ TEST_CASE("pack split: a sprawling chart is cut into pieces that pack fuller, th
   CHECK_MESSAGE(test_gltf::validator_errors(split.glb, report, "split_out.glb") == 0, report);
 }
 
+TEST_CASE("pack split: faces degenerate after welding, each there twice, stay in their chart's pieces (fuzz F14)") {
+  // Such faces are kept in the asset at one UV point of their chart; two copies have the
+  // same corners, so a piece's triangles are mapped back by place, not by corners. Before,
+  // one copy kept the chart's numbering: a face across two placed pieces (a 200 with a UV
+  // triangle spanning the atlas), or a 500 "chart 0 names UV 7 of 6" (mesh_fuzz).
+  auto elephant = test_data::load_cgal("elephant");
+  const std::size_t faces = elephant.triangles.size();
+  for (std::size_t f = 0; f < faces; f += 3) {
+    const auto t = elephant.triangles[f];
+    elephant.triangles.push_back({t[0], t[0], t[1]});
+    elephant.triangles.push_back({t[0], t[0], t[1]});
+  }
+  auto glb = write_plain_glb(elephant);
+  REQUIRE(glb.ok());
+  const PipelineOutput split = run_ok(*glb, {{"pack", {{"split", true}}}});
+  const json& uv = split.body["uv"];
+  CHECK(uv["split"]["charts_split"].get<int>() >= 1);
+  CHECK(uv["overlap_area"] == 0.0);
+  CHECK(uv["flipped"] == 0);
+  auto doc = parse_asset(split.glb, AssetKind::kGlb);
+  REQUIRE(doc.ok());
+  auto out = read_primitive(*doc, 0, 0);
+  REQUIRE(out.ok());
+  REQUIRE(out->mesh.triangles.size() == elephant.triangles.size());
+  for (std::size_t f = 0; f < elephant.triangles.size(); f += 13) {
+    for (int k = 0; k < 3; ++k) {
+      CHECK(out->mesh.positions[out->mesh.triangles[f][k]] ==
+            elephant.positions[elephant.triangles[f][k]].cast<float>().cast<double>());
+    }
+  }
+  // Every added face lies at one UV point of one chart (a copy left over the chart's vertex
+  // numbering before the split reached across two placed pieces: 20 of them).
+  const std::string name = "TEXCOORD_" + std::to_string(uv["channel"].get<int>());
+  const auto texcoord = std::find_if(out->attributes.begin(), out->attributes.end(),
+                                     [&](const AttributeArray& a) { return a.name == name; });
+  REQUIRE(texcoord != out->attributes.end());
+  auto uv_of = [&](std::uint32_t v) {
+    std::array<float, 2> x{};
+    std::memcpy(x.data(), texcoord->data.data() + v * 8, 8);
+    return x;
+  };
+  std::size_t spread = 0;
+  for (std::size_t f = faces; f < out->mesh.triangles.size(); ++f) {
+    const auto& t = out->mesh.triangles[f];
+    if (uv_of(t[0]) != uv_of(t[1]) || uv_of(t[0]) != uv_of(t[2])) ++spread;
+  }
+  CHECK(spread == 0);
+  std::string report;
+  CHECK_MESSAGE(test_gltf::validator_errors(split.glb, report, "split_degenerate_out.glb") == 0, report);
+}
+
 }  // namespace seam_whole_asset_test

@@ -489,8 +489,11 @@ TEST_CASE("splitting a sprawling chart: the pieces partition it, keep its scale,
     area_of_chart[piece.chart] += piece.surface_area;
     // Same scale as its chart: surface area / UV area of each piece is the chart's, 2.
     CHECK(piece.surface_area / area_of(c.uv, c.triangles) == doctest::Approx(2.0));
-    for (const Triangle& t : piece.triangles) {
+    REQUIRE(piece.chart_triangles.size() == piece.triangles.size());
+    for (std::size_t i = 0; i < piece.triangles.size(); ++i) {
+      const Triangle& t = piece.triangles[i];
       std::array<std::uint32_t, 3> source{piece.vertices[t[0]], piece.vertices[t[1]], piece.vertices[t[2]]};
+      CHECK(charts[piece.chart].triangles.at(piece.chart_triangles[i]) == Triangle{source[0], source[1], source[2]});
       triangles_of[piece.chart].push_back(source);
       for (int k = 0; k < 3; ++k) {
         if (piece.chart == 0) comb_edges[std::minmax(source[k], source[(k + 1) % 3])].insert(p);
@@ -531,6 +534,30 @@ TEST_CASE("splitting a sprawling chart: the pieces partition it, keep its scale,
   REQUIRE(none.ok());
   CHECK(none->pieces.size() == charts.size());
   CHECK(none->cut_length == 0);
+}
+
+TEST_CASE("split: a chart that holds a triangle twice gives each copy to one piece, by its place in the chart") {
+  // Duplicate faces stay in the asset and in their chart; the API maps pieces back to the
+  // cut triangles through chart_triangles, so the two copies must be told apart there.
+  OwnedChart comb = comb_chart();
+  const std::size_t original = comb.triangles.size();
+  for (std::size_t t = 0; t < original; t += 7) comb.triangles.push_back(comb.triangles[t]);
+  const std::vector<OwnedChart> charts{comb};
+  auto split = split_sprawling_charts(views(charts));
+  REQUIRE(split.ok());
+  REQUIRE(split->pieces.size() >= 2);
+  std::vector<int> uses(comb.triangles.size(), 0);
+  for (const ChartPiece& piece : split->pieces) {
+    REQUIRE(piece.chart_triangles.size() == piece.triangles.size());
+    for (std::size_t i = 0; i < piece.triangles.size(); ++i) {
+      const Triangle& t = piece.triangles[i];
+      REQUIRE(piece.chart_triangles[i] < uses.size());
+      ++uses[piece.chart_triangles[i]];
+      CHECK(comb.triangles[piece.chart_triangles[i]] ==
+            Triangle{piece.vertices[t[0]], piece.vertices[t[1]], piece.vertices[t[2]]});
+    }
+  }
+  CHECK(std::all_of(uses.begin(), uses.end(), [](int u) { return u == 1; }));
 }
 
 TEST_CASE("split refuses bad options and malformed charts with typed errors") {
