@@ -212,7 +212,11 @@ void check_pack(const Case& c, seam::api::PrimitiveResult& r) {
     uv.emplace_back(p[0], p[1]);
   }
   std::vector<std::uint32_t> chart_of;
-  for (const auto& t : r.cut.triangles) chart_of.push_back(r.chart[t[0]]);
+  for (const auto& t : r.cut.triangles) {
+    // A triangle across two charts gets a UV triangle across the atlas (F14).
+    if (r.chart[t[1]] != r.chart[t[0]] || r.chart[t[2]] != r.chart[t[0]]) fail("a packed triangle spans two charts");
+    chart_of.push_back(r.chart[t[0]]);
+  }
   auto overlap = core::find_overlaps(uv, r.cut.triangles, chart_of);
   if (!overlap.ok()) fail("find_overlaps refused the packed layout");
   if (overlap->between_charts_area > 0) fail("two packed charts overlap");
