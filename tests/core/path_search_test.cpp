@@ -100,6 +100,40 @@ TEST_CASE("PathSearch equals Bellman–Ford with blocked and forbidden vertices,
   }
 }
 
+TEST_CASE("PathSearch: a run's sources, distances and settled vertices end with it (reset is a new generation)") {
+  const HalfedgeMesh mesh = torus_mesh();
+  const EdgeGraph graph = build_edge_graph(mesh);
+  PathSearch search(graph);
+  const VertexId b(0u);
+  VertexId a;
+  mesh.for_each_outgoing(b, [&](HalfedgeId h) {
+    if (!a.valid()) a = mesh.head(h);
+  });
+  std::vector<std::uint8_t> blocked(mesh.num_vertices(), 0), forbidden(mesh.num_vertices(), 0);
+  blocked[b.index()] = 1;
+  search.block(b);
+  // Run 1: the blocked b is a source, so it is expanded.
+  search.add_source(b);
+  REQUIRE(search.run().ok());
+  CHECK(search.reached(a));
+  // Run 2 from b's neighbour a: b is blocked and no longer a source, so no path passes
+  // through it (a source flag left over would let them).
+  for (int run = 0; run < 3; ++run) {
+    search.reset();
+    CHECK_FALSE(search.reached(a));  // forgotten before the run
+    CHECK_FALSE(search.parent(a).valid());
+    search.add_source(a);
+    REQUIRE(search.run().ok());
+    const auto expected = bellman_ford(graph, {a}, blocked, forbidden);
+    for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+      CAPTURE(v);
+      REQUIRE(search.reached(VertexId(v)) == (expected[v] < std::numeric_limits<double>::infinity()));
+      if (search.reached(VertexId(v)))
+        CHECK(search.distance(VertexId(v)) == doctest::Approx(expected[v]).epsilon(1e-12));
+    }
+  }
+}
+
 TEST_CASE("PathSearch::run_to_nearest stops at the nearest target, within max_distance and max_settled") {
   const HalfedgeMesh mesh = torus_mesh();
   const EdgeGraph graph = build_edge_graph(mesh);
