@@ -43,10 +43,8 @@ RUN apt-get update \
 COPY --from=build /src/build/server/seamd /usr/local/bin/seamd
 USER 10001:10001
 # OpenBLAS (behind CHOLMOD) starts no thread pool of its own: one request per worker per core.
-# glibc's malloc asks for transparent huge pages (api/process_env.h): with both set, seamd
-# does not need to execute itself again to get them.
+# With it set, seamd does not need to execute itself again (api/process_env.h).
 ENV OPENBLAS_NUM_THREADS=1 \
-    GLIBC_TUNABLES=glibc.malloc.hugetlb=1 \
     SEAMD_BIND=0.0.0.0 \
     SEAMD_PORT=8080 \
     SEAMD_LOG_LEVEL=info

@@ -146,7 +146,7 @@ ApiResult<std::string> seam_input(cli::ParsedArgs& args) {
 void set_up_process(const std::string& in_path, char** reexec_argv) {
   std::error_code ec;
   const std::uintmax_t size = in_path == "-" ? 0 : std::filesystem::file_size(in_path, ec);
-  if (!ec && size >= kHugePageInputBytes) {
+  if (!ec && size >= kReexecInputBytes) {
     reexec_with(ProcessEnv{}, reexec_argv);
   } else {
     keep_freed_memory_for_short_job();  // not worth a second start

@@ -17,9 +17,9 @@ struct CliContext {
   /// concurrency.
   unsigned cores = 0;
   /// main's argv, set when the CLI has the process to itself. Then `seamd seam` with an input
-  /// file of at least kHugePageInputBytes (api/process_env.h) and `seamd batch` execute the
-  /// program again under ProcessEnv's huge-page malloc, once the arguments are checked and
-  /// before any input is read; a smaller `seamd seam` job keeps freed memory for reuse
+  /// file of at least kReexecInputBytes (api/process_env.h) and `seamd batch` execute the
+  /// program again under ProcessEnv (no OpenBLAS thread pool), once the arguments are checked
+  /// and before any input is read; a smaller `seamd seam` job keeps freed memory for reuse
   /// instead (keep_freed_memory_for_short_job). Null (the tests): neither.
   char** reexec_argv = nullptr;
 };

@@ -1,42 +1,34 @@
-// The environment a seamd process runs best under. The libraries concerned read it only
-// while the process starts (glibc's malloc tunables, OpenBLAS's thread pool, both before
-// main), so seamd gets it by executing itself once more with the same arguments.
+// The environment a seamd process runs best under. OpenBLAS reads it only while the process
+// starts (its thread pool, before main), so seamd gets it by executing itself once more with
+// the same arguments.
 //
-// - Huge-page malloc (GLIBC_TUNABLES gains glibc.malloc.hugetlb=1): glibc's malloc advises
-//   the kernel to back its heap and its large blocks with 2 MiB transparent huge pages
-//   (madvise, which is the setting of Debian and most distributions: `always` needs no
-//   advice, `never` ignores it). A job's memory is mostly fresh blocks of megabytes (meshes,
-//   sparse matrices, factors) that are touched once: with 4 KiB pages every page is a fault,
-//   and faults are the dearest thing a virtual machine does. Measured on the 2-core test
-//   machine (`bench/mesh_bench --job`, docs/uv.md): the weld stage at 1.2M faces 337 -> 151 ms,
-//   the whole default job at 312k faces 7.0 -> 5.3 s; peak RSS the same (935/937 MiB at 1.25M
-//   faces).
 // - Single-threaded BLAS (OPENBLAS_NUM_THREADS=1): seamd runs BLAS on one thread anyway
 //   (core::use_single_threaded_solvers, which stops the pool OpenBLAS started when it was
 //   loaded), but with the variable set OpenBLAS starts no pool at all, and a pool stopped
 //   late leaves more memory behind: peak RSS of the default job at 1.25M faces 956 MiB with
 //   the pool stopped, 937 MiB without one. The server needs it for its signal handling too
-//   (server/main.cpp).
+//   (server/main.cpp). A value the caller's environment already gives stands.
 //
-// A value the caller's environment already gives (any glibc.malloc.hugetlb, any
-// OPENBLAS_NUM_THREADS) is left as it is: setting `GLIBC_TUNABLES=glibc.malloc.hugetlb=0`
-// turns huge pages off.
+// glibc's malloc is left as the caller's environment sets it. From 2026-12-02 to 12-04 seamd
+// added glibc.malloc.hugetlb=1 (2 MiB transparent huge pages for the heap), measured then at
+// the weld stage of 1.2M faces 337 -> 151 ms and the default job at 312k faces 7.0 -> 5.3 s.
+// On this virtual machine a fresh huge page can cost ~13 ms to fault in (the host backs it
+// page by page: 603 huge-page faults, 8 s of system time in one 1.25M-face job), and on
+// 2026-12-04, in paired runs, huge pages made every job slower: the CLI's default job at
+// 1.25M faces 7.8-9.1 s without, 10.4-15.5 s with; the same through the server, repeated,
+// 6.8-7.9 s against 8.3-10.0 s; 20k small parts 1.5-2.2 s against 1.9-2.5 s. Only the weld
+// stage repeated in one process, its memory warm, still gained (266 against 277 ms). What
+// huge pages are worth depends on the host, and without them the times hold steady, so they
+// are the caller's choice: GLIBC_TUNABLES=glibc.malloc.hugetlb=1 turns them on.
 #pragma once
 
 #include <cstdint>
-#include <optional>
-#include <string>
 
 namespace seam::api {
 
 struct ProcessEnv {
-  bool huge_page_malloc = true;      ///< GLIBC_TUNABLES: glibc.malloc.hugetlb=1
   bool single_threaded_blas = true;  ///< OPENBLAS_NUM_THREADS=1
 };
-
-/// The GLIBC_TUNABLES value that adds glibc.malloc.hugetlb=1 to `current` (null: unset), or
-/// nullopt when `current` already sets glibc.malloc.hugetlb (to anything).
-std::optional<std::string> tunables_with_huge_pages(const char* current);
 
 /// True when this process's environment already has everything `wanted` asks for.
 bool process_env_in_place(const ProcessEnv& wanted);
@@ -54,12 +46,13 @@ void reexec_with(const ProcessEnv& wanted, char** argv);
 /// unmapping it and taking it back page by page (mmap threshold 32 MiB, trim threshold
 /// 64 MiB, both fixed). Homer (10k faces) as a whole process: 157 -> 148 ms (fewer page
 /// faults: 3,014 -> 2,373). Not for the server or large jobs: a long-lived or large process
-/// should give memory back.
+/// should give memory back, and the 1.25M-face job took 9.5-9.8 s with these thresholds
+/// against 7.8-8.4 s without (2026-12-04).
 void keep_freed_memory_for_short_job();
 
-/// The input size from which `seamd seam` executes itself again for huge-page malloc: a
-/// second start costs about 20 ms (30 shared libraries), which the huge pages repay from
-/// about 20k faces (a 350 KB GLB: 40 ms saved; 10k faces: 15 ms, less than the start).
-inline constexpr std::uintmax_t kHugePageInputBytes = 256 * 1024;
+/// The input size from which `seamd seam` executes itself again (without OpenBLAS's thread
+/// pool) instead of keeping freed memory for a short job: a second start costs about 20 ms
+/// (30 shared libraries), nothing next to a job of ~20k faces and up.
+inline constexpr std::uintmax_t kReexecInputBytes = 256 * 1024;
 
 }  // namespace seam::api

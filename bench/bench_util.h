@@ -19,7 +19,7 @@
 namespace seam::bench {
 
 // Every benchmark measures the process environment the service runs under
-// (api/process_env.h: huge-page malloc): executes the benchmark again with it if need be.
+// (api/process_env.h: no OpenBLAS thread pool): executes the benchmark again with it if need be.
 inline void run_as_deployed(char** argv) { api::reexec_with(api::ProcessEnv{}, argv); }
 
 /// Wall milliseconds taken by f(), best of `repeats` runs (the minimum filters scheduler noise).

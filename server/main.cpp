@@ -117,8 +117,7 @@ int main(int argc, char** argv) {
   }
   // OpenBLAS starts its thread pool when it is loaded, before main, unless
   // OPENBLAS_NUM_THREADS says 1 (seamd uses it single-threaded anyway): executed again with it
-  // set, no thread exists that does not block the stop signals. The same start turns on
-  // huge-page malloc (api/process_env.h).
-  seam::api::reexec_with(seam::api::ProcessEnv{}, argv);  // both settings
+  // set, no thread exists that does not block the stop signals (api/process_env.h).
+  seam::api::reexec_with(seam::api::ProcessEnv{}, argv);
   return serve(argc, argv);
 }
