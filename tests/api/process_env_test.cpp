@@ -43,7 +43,7 @@ class ScopedEnv {
 
 }  // namespace
 
-TEST_CASE("process env: in place when every wanted setting is in the environment; malloc is left alone") {
+TEST_CASE("process env: in place when every wanted setting is in the environment, and malloc is left alone") {
   const ProcessEnv blas{.single_threaded_blas = true};
   const ProcessEnv none{.single_threaded_blas = false};
   {

@@ -222,7 +222,7 @@ void check_pack(const Case& c, seam::api::PrimitiveResult& r) {
   if (overlap->between_charts_area > 0) fail("two packed charts overlap");
   // The default map is injective; packing moves each chart by a similarity and rounds to float32,
   // which moves a UV by half a unit in the last place (<= 2^-24 in the unit square). Where the
-  // map only touches itself (a slit's two sides collinear at its tip: F15), that can open a
+  // map only touches itself (two boundary edges from one vertex on one line: F15), that can open a
   // sliver at most a few such units wide along an edge: allowed up to the edges' total length
   // times 2^-22; anything wider is a real fold.
   double edges = 0;
