@@ -17,12 +17,12 @@
 // such a block, so it faults in at host speed: touching 400 MiB took 1.6-1.7 s in huge pages
 // (even 5 or 20 s after the last run), 36 ms when run again at once, and 225 ms in small pages,
 // which the kernel reuses from memory still backed. On 2026-12-04, in paired runs, huge pages
-// made every job slower (603 huge-page faults, 8 s of system time in one 1.25M-face job): the CLI's default job at
-// 1.25M faces 7.8-9.1 s without, 10.4-15.5 s with; the same through the server, repeated,
-// 6.8-7.9 s against 8.3-10.0 s; 20k small parts 1.5-2.2 s against 1.9-2.5 s. Only the weld
-// stage repeated in one process, its memory warm, still gained (266 against 277 ms). What
-// huge pages are worth depends on the host, and without them the times hold steady, so they
-// are the caller's choice: GLIBC_TUNABLES=glibc.malloc.hugetlb=1 turns them on.
+// made every job slower (603 huge-page faults, 8 s of system time in one 1.25M-face job): the
+// CLI's default job at 1.25M faces 7.8-9.1 s without, 10.4-15.5 s with; the same through the
+// server, repeated, 6.8-7.9 s against 8.3-10.0 s; 20k small parts 1.5-2.2 s against 1.9-2.5 s.
+// Only the weld stage repeated in one process, its memory warm, still gained (266 against
+// 277 ms). What huge pages are worth depends on the host, and without them the times hold
+// steady, so they are the caller's choice: GLIBC_TUNABLES=glibc.malloc.hugetlb=1 turns them on.
 #pragma once
 
 #include <cstdint>

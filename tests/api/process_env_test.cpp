@@ -1,5 +1,5 @@
-// The environment seamd executes itself under (api/process_env.h): when it counts as in place. (That the server process
-// really runs with it: tests/server/process_test.cpp.)
+// The environment seamd executes itself under (api/process_env.h): when it counts as in place.
+// (That the server process really runs with it: tests/server/process_test.cpp.)
 #include <doctest/doctest.h>
 
 #include <cstdlib>

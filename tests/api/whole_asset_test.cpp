@@ -81,18 +81,26 @@ PipelineOutput run_ok(const std::string& asset, const json& params) {
   return std::move(out).value();
 }
 
-double uv_area(const PrimitiveData& p, int channel) {
+// The primitive's UVs of TEXCOORD_<channel> (float32 pairs), one per vertex.
+std::vector<std::array<double, 2>> texcoords(const PrimitiveData& p, int channel) {
   const std::string name = "TEXCOORD_" + std::to_string(channel);
   const AttributeArray* uv = nullptr;
   for (const auto& a : p.attributes) {
     if (a.name == name) uv = &a;
   }
   REQUIRE(uv != nullptr);
-  auto at = [&](std::uint32_t v) {
+  std::vector<std::array<double, 2>> out(uv->count);
+  for (std::size_t v = 0; v < uv->count; ++v) {
     float x[2];
     std::memcpy(x, uv->data.data() + v * 8, 8);
-    return std::array<double, 2>{x[0], x[1]};
-  };
+    out[v] = {x[0], x[1]};
+  }
+  return out;
+}
+
+double uv_area(const PrimitiveData& p, int channel) {
+  const std::vector<std::array<double, 2>> uv = texcoords(p, channel);
+  auto at = [&](std::uint32_t v) { return uv.at(v); };
   double area = 0;
   for (const auto& t : p.mesh.triangles) {
     const auto a = at(t[0]), b = at(t[1]), c = at(t[2]);
@@ -401,15 +409,8 @@ TEST_CASE("pack split: faces degenerate after welding, each there twice, stay in
   }
   // Every added face lies at one UV point of one chart (a copy left over the chart's vertex
   // numbering before the split reached across two placed pieces: 20 of them).
-  const std::string name = "TEXCOORD_" + std::to_string(uv["channel"].get<int>());
-  const auto texcoord = std::find_if(out->attributes.begin(), out->attributes.end(),
-                                     [&](const AttributeArray& a) { return a.name == name; });
-  REQUIRE(texcoord != out->attributes.end());
-  auto uv_of = [&](std::uint32_t v) {
-    std::array<float, 2> x{};
-    std::memcpy(x.data(), texcoord->data.data() + v * 8, 8);
-    return x;
-  };
+  const std::vector<std::array<double, 2>> corner_uv = texcoords(*out, uv["channel"].get<int>());
+  auto uv_of = [&](std::uint32_t v) { return corner_uv.at(v); };
   std::size_t spread = 0;
   for (std::size_t f = faces; f < out->mesh.triangles.size(); ++f) {
     const auto& t = out->mesh.triangles[f];
