@@ -88,6 +88,24 @@ inline core::IndexedMesh spatially_ordered(const core::IndexedMesh& m) {
   return z;
 }
 
+/// spatially_ordered, and the triangles numbered as the service numbers them too (api/surface.cpp,
+/// canonicalize): each rotated to start at its smallest vertex, winding kept, then sorted by
+/// their vertex triples. The triangles' order changes the floating-point order of every sum over
+/// them, and SLIM's contact-limited descent is sensitive to that: camel x64's coarse chart ended
+/// at energy 4.36 in subdivision order and stalled at 5.99 in this one before issue 14's fix
+/// of held vertices (core/uv/slim.cpp, add_contacts). Benchmarks of the flattening use this.
+inline core::IndexedMesh service_numbered(const core::IndexedMesh& m) {
+  core::IndexedMesh z = spatially_ordered(m);
+  for (auto& t : z.triangles) {
+    std::size_t first = 0;
+    if (t[1] < t[first]) first = 1;
+    if (t[2] < t[first]) first = 2;
+    t = {t[first], t[(first + 1) % 3], t[(first + 2) % 3]};
+  }
+  core::sort_triangles(z.triangles, z.positions.size());
+  return z;
+}
+
 /// Welds (exactly) and builds the half-edge mesh; exits with a message if the builder refuses.
 inline core::HalfedgeMesh build_welded(const core::IndexedMesh& soup) {
   auto weld = core::weld_vertices(soup.positions, {});

@@ -7,8 +7,8 @@
 //
 //   flatten_bench [pairs [min_faces [mesh ...]]]   default: 3 pairs, 900000 faces; lion-head (a
 //       disc) and camel (closed, cut by the skeleton seam through its automatic extrema)
-// Each mesh is midpoint-subdivided to >= min_faces faces and numbered along a Z-order curve, as
-// the service numbers every mesh. Prints tables; asserts nothing.
+// Each mesh is midpoint-subdivided to >= min_faces faces and its vertices and triangles numbered
+// as the service numbers every mesh (bench::service_numbered). Prints tables; asserts nothing.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -40,7 +40,7 @@ double median(std::vector<double> v) {
 
 // The mesh to flatten: a disc as it is, a closed mesh cut along its default seam.
 core::HalfedgeMesh disc_of(const std::string& name, std::size_t min_faces) {
-  const core::IndexedMesh soup = bench::spatially_ordered(bench::subdivide_to(bench::load_cgal(name), min_faces));
+  const core::IndexedMesh soup = bench::service_numbered(bench::subdivide_to(bench::load_cgal(name), min_faces));
   core::HalfedgeMesh mesh = bench::build_welded(soup);
   const core::Topology topology = core::compute_topology(mesh);
   if (topology.boundary_loops.size() > 0) return mesh;

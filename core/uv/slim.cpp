@@ -19,7 +19,6 @@ namespace {
 
 constexpr double kMaxProxyWeight = 1e8;
 constexpr int kHoldRounds = 8;  // rounds of contacts and held vertices per step
-constexpr int kMinContactSolves = 32;  // per step, whatever a factorization costs
 // A contact-limited step ends the descent when the last kWindow steps together gained less
 // than kWindow x kWindowTolerance x the tolerance.
 constexpr int kWindow = 3;
@@ -651,20 +650,22 @@ struct ContactRound {
   std::vector<ProxySystem::Contact> contacts;
   int budget = 0;           // solves one factorization is worth
   int spent = 0;            // solves so far
-  bool refactored = false;  // springs added and the factor updated or factored again (once per step)
 };
 
 // One round's new colliding pairs: within the solve budget they become contacts. A pair that
 // already is one and still collides (linearised at the closest point, it misses what the edge's
 // turn and stretch do: at 1.25M faces such pairs sit within the gap and collide at t = 0), or
 // one beyond the budget (solving it would cost more than a factorization), has its vertices
-// tied by stiff springs (1e6 x the largest diagonal), once per step: issue 12's way, only where
-// the contacts do not suffice. The springs go into the step's factor by a rank update of their
-// unknowns (refactor_held; a second factorization for a supernodal factor): camel x64's coarse
-// chart (52k vertices, 7 of 12 steps with springs) 19 -> 12 factorizations, the same steps
-// and energy. Held vertices whose motion is merely zeroed, without that re-solve, let their
-// tiny neighbours degenerate within 0.1% of the step (camel x64: stalled at energy 5.51
-// instead of 4.34). Then the step is re-solved.
+// tied by stiff springs (1e6 x the largest diagonal): issue 12's way, only where the contacts
+// do not suffice. The springs go into the step's factor by a rank update of their unknowns
+// (refactor_held; a second factorization for a supernodal factor): camel x64's coarse chart
+// (52k vertices, 7 of 12 steps with springs) 19 -> 12 factorizations, the same steps and
+// energy. Every round that holds new vertices adds their springs and solves the step again:
+// a held vertex whose motion is merely zeroed lets its tiny neighbours degenerate within a
+// fraction of the step, and the descent stalls. Holding only the first round's vertices by
+// springs and zeroing later ones stalled camel x64's coarse chart, triangles numbered as the
+// service numbers them, at energy 5.99 after 5 steps (its fine chart's optimum is 4.35) or
+// at BFF's map after none, depending on the coarse size.
 void add_contacts(Descent& d, CollisionStep& collision, ContactRound& state) {
   const std::vector<Vec2>& uv = d.result.uv;
   std::sort(collision.contacts.begin(), collision.contacts.end(), [](const auto& x, const auto& y) {
@@ -682,14 +683,14 @@ void add_contacts(Descent& d, CollisionStep& collision, ContactRound& state) {
       continue;
     }
     for (std::uint32_t v : key) {
-      if (!state.refactored && !state.pinned[v]) spring.push_back(v);
+      if (!state.pinned[v]) spring.push_back(v);
       state.pinned[v] = 1;
     }
   }
   if (!spring.empty()) {
     const double stiffness = 1e6 * d.proxy.max_diagonal();
     for (std::uint32_t v : spring) d.proxy.hold(v, uv[v], stiffness);
-    state.refactored = true;
+    ++d.result.spring_rounds;
     const ProxySystem::Refactor refactor = d.proxy.refactor_held();
     if (refactor != ProxySystem::Refactor::kFailed) {
       ++(refactor == ProxySystem::Refactor::kUpdated ? d.result.factor_updates : d.result.factorizations);
@@ -720,7 +721,7 @@ HeldSearch contact_search(Descent& d, const std::vector<Vec2>& direction, Collis
   const std::vector<Vec2>& uv = d.result.uv;
   HeldSearch out;
   ContactRound state{.free = direction, .held = direction, .pinned = std::vector<char>(uv.size(), 0)};
-  state.budget = std::max(kMinContactSolves, static_cast<int>(d.proxy.solves_per_factorization()));
+  state.budget = std::max(d.options.contact_solves, static_cast<int>(d.proxy.solves_per_factorization()));
   for (int round = 0; round < kHoldRounds && collision.limited; ++round) {
     add_contacts(d, collision, state);
     for (std::uint32_t v = 0; v < uv.size(); ++v) {
@@ -799,6 +800,10 @@ Status validate(std::size_t n, const std::vector<Vec2>& initial, const SlimOptio
   }
   if (!(options.tolerance >= 0 && options.tolerance <= 1)) {
     return make_error(ErrorCode::kInvalidArgument, "SLIM: tolerance must be in 0..1");
+  }
+  if (options.contact_solves < 0 || options.contact_solves > 100000) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "SLIM: contact_solves must be in 0..100000, got " + std::to_string(options.contact_solves));
   }
   if (!options.vertex_order.empty() && options.vertex_order.size() != n) {
     return make_error(ErrorCode::kInvalidArgument, "SLIM: the vertex order has " +

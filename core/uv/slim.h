@@ -29,6 +29,10 @@ struct SlimOptions {
   /// vertices keep 1e-4 of the chart's size (sqrt of its area) from the edges they face, so
   /// that rounding the map to float32 cannot close the gap.
   bool injective = true;
+  /// Solves a contact-limited step may spend on linearised contacts before the vertices it
+  /// still needs to hold get springs instead: the larger of this and the solves one
+  /// factorization of the proxy is worth (0..100000).
+  int contact_solves = 32;
   /// When not empty: a fill-reducing order of the patch's vertices that the proxy's analysis
   /// uses instead of ordering the system itself (the one BFF's factorization used: at 1M
   /// faces METIS takes about 2.6 s of each analysis). Borrowed: must outlive the call.
@@ -50,10 +54,13 @@ struct SlimResult {
   std::vector<Vec2> uv;  ///< one UV per local vertex, at 3D scale; no triangle flipped
   int iterations = 0;    ///< global steps taken
   int factorizations = 0;  ///< numeric factorizations of the proxy: one per step, plus a retry
-                           ///< with capped weights, plus one per step whose contacts needed springs
-                           ///< and whose factor could not take them by an update
-  /// Steps whose springs went into the step's factor by a low-rank update instead of a
-  /// factorization (a simplicial factor: SparseCholesky::update_diagonal).
+                           ///< with capped weights, plus one per spring round (below) whose
+                           ///< factor could not take the springs by an update
+  /// Contact rounds that held new vertices by springs and solved the step again (any number
+  /// per contact-limited step, up to its rounds).
+  int spring_rounds = 0;
+  /// Spring rounds whose springs went into the step's factor by a low-rank update instead of
+  /// a factorization (a simplicial factor: SparseCholesky::update_diagonal).
   int factor_updates = 0;
   /// Area-weighted mean symmetric Dirichlet energy s1^2 + 1/s1^2 + s2^2 + 1/s2^2 (4 for an
   /// isometry) of the start after scaling, and of the result.
@@ -94,14 +101,17 @@ struct SlimResult {
 /// costs one factorization like any step. Where the contacts do not suffice (pairs that still
 /// collide, or more than a factorization's worth of solves) the vertices are held by springs,
 /// added to the step's factor by a low-rank update when it is simplicial (else by a second
-/// factorization), and the step is solved again; the step budget is the same with or without contacts
+/// factorization), and the step is solved again, in every round of the step that holds new
+/// vertices; the step budget is the same with or without contacts
 /// (3x iterations from a Tutte start), and a contact-limited step ends the descent when the
 /// last 3 steps together gained less than 1.5x the tolerance (deterministic: counts, no clock).
-/// Errors: kInvalidArgument (initial.size() != patch vertices, options out of range, a
+/// Errors: kInvalidArgument (initial.size() != patch vertices, options out of range (iterations,
+/// tolerance, contact_solves), a
 /// vertex_order of another size),
 /// kSolverFailed (only if the Tutte start cannot be solved), kCancelled.
 /// Complexity: iterations x (sparse Cholesky of 2n x 2n + O(F) line search), plus per
-/// contact-limited step at most max(32, one factorization's flops) worth of solves.
+/// contact-limited step at most max(contact_solves, one factorization's flops) worth of solves
+/// and one spring update (or factorization) per contact round.
 Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initial, const SlimOptions& options,
                                 const CancelToken& cancel);
 
