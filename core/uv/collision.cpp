@@ -103,9 +103,15 @@ double contact_time(const Vec2& p, const Vec2& dp, const Vec2& a, const Vec2& da
     const double s0 = q.dot(e) / (len * len);
     const double slack = gap / len;
     if (std::abs(c0) <= gap * len && s0 >= -slack && s0 <= 1 + slack) {
-      return side * c1 < 0 ? 0.0 : std::numeric_limits<double>::infinity();  // already within the gap
+      // Already within the gap: moving closer is a contact now. Moving away at first order,
+      // the vertex can still come back, since the edge turns and stretches along the step
+      // (the quadratic term; a spike's vertex beside its own edge's neighbour crossed it so,
+      // F16): it may not come closer than half its present distance within the step.
+      if (side * c1 < 0) return 0.0;
+      c0 *= 0.5;
+    } else {
+      c0 -= side * gap * len;
     }
-    c0 -= side * gap * len;
   }
   const double c2 = cross2(de, dq);
   double roots[2];

@@ -36,7 +36,8 @@ struct CollisionStep {
 /// With `gap` > 0 the vertex must also stay `gap` away from the edge's line where it faces the
 /// segment (the line offset by gap towards the vertex, at the edge's start length), so that
 /// rounding the result (e.g. to float32) cannot close the last gap; a vertex already closer
-/// than `gap` and not moving away counts as colliding at t = 0.
+/// than `gap` counts as colliding at t = 0 when it moves closer at first order, and else when
+/// it would come closer than half its present distance (the edge may turn towards it).
 /// Candidate pairs come from a uniform grid over the boxes swept on [0, t_max].
 /// Preconditions: uv and direction have one entry per patch vertex; t_max > 0 finite.
 /// Complexity: O(B + P) for B boundary vertices and P candidate pairs (O(B) when the swept

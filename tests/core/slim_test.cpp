@@ -256,6 +256,42 @@ TEST_CASE("the collision step bound stops a boundary vertex exactly at the edge 
   CHECK_FALSE(boundary_is_simple(patch, uv));
 }
 
+TEST_CASE("a boundary vertex within the gap that first moves away still may not cross a turning edge") {
+  // F16 (mesh_fuzz): a spike's vertex sat within the gap of a boundary edge and moved away from
+  // it at first order, while the edge turned towards it; the bound took such a pair for safe,
+  // the vertex crossed the edge and the default map overlapped itself. Here edge a-b turns
+  // about a (b moves by (-0.5, 1)) and vertex p, 0.001 above it (the gap is 0.01), rises by
+  // 0.7: its signed distance 0.001 + 0.0995 t - 0.35 t^2 first grows, then crosses 0.
+  DiscPatch patch;
+  patch.positions.assign(5, Vec3::Zero());
+  patch.boundary = {0, 1, 2, 3, 4};  // a, b, x, p, y: edge (a, b) faces p across the slot
+  const std::vector<Vec2> uv = {Vec2(0, 0), Vec2(1, 0), Vec2(1.2, 0.5), Vec2(0.6, 0.001), Vec2(-0.2, 0.5)};
+  std::vector<Vec2> dir(5, Vec2::Zero());
+  dir[1] = Vec2(-0.5, 1);
+  dir[3] = Vec2(0, 0.7);
+  // The oracle: p's signed distance to line (a, b) along the step, by bisection on its sign.
+  auto side = [&](double t) { return cross2(uv[0] + t * dir[0], uv[1] + t * dir[1], uv[3] + t * dir[3]); };
+  REQUIRE(side(0) > 0);
+  REQUIRE(side(0.05) > side(0));  // moving away first
+  REQUIRE(side(1) < 0);
+  double lo = 0.05, hi = 1;
+  for (int i = 0; i < 60; ++i) (side(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  const double crossing = lo;  // about 0.2940
+  const CollisionStep c = max_collision_free_step(patch, uv, dir, 1.0, 0.01);
+  const auto pair = std::find_if(c.contacts.begin(), c.contacts.end(),
+                                 [](const auto& k) { return k.vertex == 3 && k.a == 0 && k.b == 1; });
+  REQUIRE(pair != c.contacts.end());
+  CHECK(pair->time < crossing);
+  CHECK(side(pair->time) == doctest::Approx(0.5 * side(0)));  // no closer than half its distance
+  CHECK(c.step <= pair->time);
+  // Without the gap the pair is bounded at the crossing itself.
+  const CollisionStep bare = max_collision_free_step(patch, uv, dir, 1.0, 0.0);
+  const auto bare_pair = std::find_if(bare.contacts.begin(), bare.contacts.end(),
+                                      [](const auto& k) { return k.vertex == 3 && k.a == 0 && k.b == 1; });
+  REQUIRE(bare_pair != bare.contacts.end());
+  CHECK(bare_pair->time == doctest::Approx(crossing).epsilon(1e-9));
+}
+
 TEST_CASE("the collision step bound finds every colliding vertex-edge pair that a brute-force scan finds") {
   // A fan disc with a 240-gon boundary on a wobbly circle and every boundary vertex pushed
   // across the disc by a pseudo-random step: hundreds of crossings, many per grid cell. The
