@@ -59,6 +59,9 @@ struct SlimResult {
   /// Contact rounds that held new vertices by springs and solved the step again (any number
   /// per contact-limited step, up to its rounds).
   int spring_rounds = 0;
+  /// Contact-limited steps whose sliding contacts gave no descent and whose colliding vertices
+  /// were then held by springs from the first round instead (issue 12's way).
+  int spring_fallbacks = 0;
   /// Spring rounds whose springs went into the step's factor by a low-rank update instead of
   /// a factorization (a simplicial factor: SparseCholesky::update_diagonal).
   int factor_updates = 0;

@@ -395,8 +395,9 @@ TEST_CASE("a chart whose boundary keeps touching itself stops within the step bu
   const int budget = (r->tutte_start ? 3 : 1) * options.iterations;
   CHECK(r->iterations < budget);
   // The contacts are solved with each step's factor: no spring re-solve on this chart (at
-  // most one retry with capped weights).
+  // most one retry with capped weights), and no step needs the springs-only fallback.
   CHECK(r->factorizations <= r->iterations + 1);
+  CHECK(r->spring_fallbacks == 0);
   CHECK(r->injective);
   CHECK(count_flipped(patch, r->uv) == 0);
   CHECK(boundary_is_simple(patch, r->uv));
