@@ -105,7 +105,9 @@ struct SlimResult {
 /// collide, or more than a factorization's worth of solves) the vertices are held by springs,
 /// added to the step's factor by a low-rank update when it is simplicial (else by a second
 /// factorization), and the step is solved again, in every round of the step that holds new
-/// vertices; the step budget is the same with or without contacts
+/// vertices; a step whose contacts give no descent is tried once more with every colliding
+/// vertex held by springs (SlimResult::spring_fallbacks); the step budget is the same with or
+/// without contacts
 /// (3x iterations from a Tutte start), and a contact-limited step ends the descent when the
 /// last 3 steps together gained less than 1.5x the tolerance (deterministic: counts, no clock).
 /// Errors: kInvalidArgument (initial.size() != patch vertices, options out of range (iterations,
