@@ -39,10 +39,7 @@ Canonical canonicalize(const core::WeldResult& weld, const std::vector<core::Tri
   for (std::size_t t = 0; t < input_triangles.size(); ++t) {
     core::Triangle tri;
     for (std::size_t k = 0; k < 3; ++k) tri[k] = c.input_to_vertex[input_triangles[t][k]];
-    std::size_t m = 0;  // the first smallest corner, as std::min_element finds it
-    if (tri[1] < tri[m]) m = 1;
-    if (tri[2] < tri[m]) m = 2;
-    c.triangles[t] = {tri[m], tri[(m + 1) % 3], tri[(m + 2) % 3]};
+    c.triangles[t] = core::rotated_to_smallest(tri);
   }
   c.face_to_input = core::sort_triangles(c.triangles, wn);
   c.input_to_face.resize(c.triangles.size());

@@ -96,12 +96,7 @@ inline core::IndexedMesh spatially_ordered(const core::IndexedMesh& m) {
 /// of held vertices (core/uv/slim.cpp, add_contacts). Benchmarks of the flattening use this.
 inline core::IndexedMesh service_numbered(const core::IndexedMesh& m) {
   core::IndexedMesh z = spatially_ordered(m);
-  for (auto& t : z.triangles) {
-    std::size_t first = 0;
-    if (t[1] < t[first]) first = 1;
-    if (t[2] < t[first]) first = 2;
-    t = {t[first], t[(first + 1) % 3], t[(first + 2) % 3]};
-  }
+  for (auto& t : z.triangles) t = core::rotated_to_smallest(t);
   core::sort_triangles(z.triangles, z.positions.size());
   return z;
 }

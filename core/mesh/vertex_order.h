@@ -1,6 +1,7 @@
 // A cache-friendly, canonical vertex numbering.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -17,6 +18,15 @@ namespace seam::core {
 /// Positions must be finite. Complexity: O(n) (a radix sort of the codes), plus O(k log k)
 /// for each run of k vertices sharing a code.
 std::vector<std::uint32_t> spatial_order(std::span<const Vec3> positions);
+
+/// `t` rotated to start at its first smallest vertex, the winding kept: the canonical form of a
+/// face before sort_triangles. O(1).
+inline Triangle rotated_to_smallest(const Triangle& t) {
+  std::size_t m = 0;
+  if (t[1] < t[m]) m = 1;
+  if (t[2] < t[m]) m = 2;
+  return {t[m], t[(m + 1) % 3], t[(m + 2) % 3]};
+}
 
 /// Sorts `triangles` by their vertex triples (t[0], then t[1], then t[2]), equal triples kept
 /// in their order: what std::stable_sort on the triples gives. Returns order[new] = old.

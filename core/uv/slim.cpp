@@ -644,7 +644,7 @@ ProxySystem::Contact linearised_contact(const std::vector<Vec2>& uv, const Colli
 
 // What contact_search keeps between its rounds.
 struct ContactRound {
-  std::vector<Vec2> free;   // the proxy's step (re-solved once if springs were added)
+  std::vector<Vec2> free;   // the proxy's step (solved again in each round that adds springs)
   std::vector<Vec2> held;   // the step with the contacts and held vertices
   std::vector<char> pinned; // vertices held still
   std::vector<ProxySystem::Contact> contacts;
@@ -762,7 +762,8 @@ StepOutcome bounded_step(Descent& d, const std::vector<Vec2>& direction) {
       // Sliding contacts can bend the step until a small triangle degenerates almost at once
       // (camel x64's coarse chart with 96 contact solves: held steps of 0.5% and no descent,
       // so the descent stopped at energy 4.50 instead of 4.37); then the colliding vertices
-      // are held by springs instead, which moves the rest of the chart (4.367).
+      // are held by springs instead, which moves the rest of the chart (4.367). The first
+      // search's springs stay in the step's factor.
       HeldSearch held = contact_search(d, direction, collision, false);
       if (!held.descended) {
         ++d.result.spring_fallbacks;
@@ -773,7 +774,7 @@ StepOutcome bounded_step(Descent& d, const std::vector<Vec2>& direction) {
         lap(timings.collision_ms, clock);
         return out;
       }
-      step = 0.9 * max_collision_free_step(d.patch, d.result.uv, direction, step, d.gap).step;
+      step = 0.9 * collision.step;  // the bound above: neither search moved the map
     }
     lap(timings.collision_ms, clock);
   }

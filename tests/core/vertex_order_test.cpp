@@ -114,6 +114,16 @@ TEST_CASE("the order is the documented one: by code, then (x, y, z), then index,
   CHECK(order == expected);
 }
 
+TEST_CASE("rotated_to_smallest starts a face at its first smallest vertex and keeps the winding") {
+  CHECK(rotated_to_smallest({4, 2, 7}) == Triangle{2, 7, 4});
+  CHECK(rotated_to_smallest({1, 5, 3}) == Triangle{1, 5, 3});
+  CHECK(rotated_to_smallest({9, 8, 0}) == Triangle{0, 9, 8});
+  // Ties (degenerate faces): the first smallest corner, as std::min_element finds it.
+  CHECK(rotated_to_smallest({2, 1, 1}) == Triangle{1, 1, 2});
+  CHECK(rotated_to_smallest({1, 3, 1}) == Triangle{1, 3, 1});
+  CHECK(rotated_to_smallest({5, 5, 5}) == Triangle{5, 5, 5});
+}
+
 TEST_CASE("sort_triangles is std::stable_sort on the triples, with repeats and a crowded first vertex") {
   // Random triples over few vertices (so triples repeat and share their first vertex), plus a
   // vertex that starts 200 triangles (its bucket takes the large-bucket branch).
