@@ -70,8 +70,13 @@ class StarLists {
     for (const Triangle& t : tris) {
       for (std::uint32_t v : t) ++size_[v];
     }
-    for (std::size_t v = 0; v < n; ++v) offset_[v + 1] = offset_[v] + std::max<std::size_t>(size_[v], room);
-    slots_.resize(offset_[n]);
+    std::size_t total = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      total += std::max<std::size_t>(size_[v], room);
+      SEAM_ASSERT(total < kNone);
+      offset_[v + 1] = static_cast<std::uint32_t>(total);
+    }
+    slots_.resize(total);
     std::fill(size_.begin(), size_.end(), 0);
     for (std::uint32_t f = 0; f < tris.size(); ++f) {
       for (std::uint32_t v : tris[f]) push(v, f);
@@ -90,7 +95,7 @@ class StarLists {
   void clear(std::uint32_t v) { size_[v] = 0; }
 
  private:
-  std::vector<std::size_t> offset_;
+  std::vector<std::uint32_t> offset_;
   std::vector<std::uint32_t> size_;
   std::vector<std::uint32_t> slots_;
 };
@@ -118,12 +123,6 @@ class Collapser {
         alive_count_(patch.num_vertices()) {
     for (std::uint32_t v : patch.boundary) boundary_[v] = 1;
     log_scale_ = vertex_log_scales(patch, uv);
-    shape_.resize(tris_.size());
-    for (std::size_t f = 0; f < tris_.size(); ++f) {
-      const Triangle& t = tris_[f];
-      shape_[f] = {quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]),
-                   quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]])};
-    }
   }
 
   // One round, a matching: every interior vertex not yet paired this round collapses onto its
@@ -135,19 +134,22 @@ class Collapser {
     std::size_t collapses = 0;
     std::uint32_t poll = 0;
     std::vector<std::uint32_t> ring;
+    std::vector<std::pair<double, std::uint32_t>> candidates;
     for (std::uint32_t v = 0; v < alive_.size() && alive_count_ > target; ++v) {
       if (cancel.poll(poll)) return cancelled_error("coarsening a chart");
       if (!alive_[v] || boundary_[v] || locked_[v] == round_) continue;
       neighbours(v, ring);
+      // The neighbours not yet paired this round, nearest first (ties by index).
       const Vec3& p = patch_.positions[v];
-      std::sort(ring.begin(), ring.end(), [&](std::uint32_t a, std::uint32_t b) {
-        const double da = (patch_.positions[a] - p).squaredNorm();
-        const double db = (patch_.positions[b] - p).squaredNorm();
-        return da != db ? da < db : a < b;
-      });
-      const Worst worst = worst_of_star(v);
+      candidates.clear();
       for (std::uint32_t w : ring) {
-        if (locked_[w] == round_ || !collapse(v, w, worst)) continue;
+        if (locked_[w] != round_) candidates.emplace_back((patch_.positions[w] - p).squaredNorm(), w);
+      }
+      if (candidates.empty()) continue;
+      std::sort(candidates.begin(), candidates.end());
+      const Worst worst = worst_of_star(v);
+      for (const auto& [distance, w] : candidates) {
+        if (!collapse(v, w, worst)) continue;
         locked_[w] = round_;  // w has its partner for this round
         ++collapses;
         --alive_count_;
@@ -238,6 +240,9 @@ class Collapser {
     const std::uint32_t x = third(tris_[shared[0]], v, w);
     const std::uint32_t y = third(tris_[shared[1]], v, w);
     if (x == y) return false;
+    // The shapes first: they read v's star, which the caller has just read, while the link
+    // condition reads w's.
+    if (!shapes_hold(v, w, shared, worst)) return false;
     // Link condition: v and w have no common neighbour but x and y.
     ++epoch_;
     std::size_t valence_w = 0;
@@ -261,7 +266,6 @@ class Collapser {
       }
     }
     if (valence_w + valence_v - 4 > options_.max_valence) return false;
-    if (!shapes_hold(v, w, shared, worst)) return false;
     for (std::uint32_t s : shared) {
       tri_alive_[s] = 0;
       for (std::uint32_t u : {w, x, y}) faces_of_.erase(u, s);
@@ -273,7 +277,6 @@ class Collapser {
       }
       faces_of_.push(w, f);
     }
-    for (const auto& [f, shape] : pending_) shape_[f] = shape;
     faces_of_.clear(v);
     alive_[v] = 0;
     parent_[v] = w;
@@ -283,7 +286,6 @@ class Collapser {
   // Every triangle of v's star that survives the collapse stays positively oriented in the
   // start map, joins vertices of similar scale, and is no worse shaped (there and in 3D) than
   // `worst`.
-  // The new triangles' shapes go to pending_ (kept when the collapse is made).
   bool shapes_hold(std::uint32_t v, std::uint32_t w, const std::uint32_t (&shared)[2], const Worst& worst) {
     auto moved = [&](std::uint32_t f) {
       Triangle t = tris_[f];
@@ -299,24 +301,28 @@ class Collapser {
       const auto [lo, hi] = std::minmax({log_scale_[t[0]], log_scale_[t[1]], log_scale_[t[2]]});
       if (hi - lo > max_log_scale_range_ || !(cross2(uv_[t[0]], uv_[t[1]], uv_[t[2]]) > 0)) return false;
     }
-    pending_.clear();
     for (std::uint32_t f : faces_of_[v]) {
       if (f == shared[0] || f == shared[1]) continue;
-      const Triangle t = moved(f);
-      const double q_uv = quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]);
-      const double q_3d = quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]]);
-      if (!(q_3d > 0) || q_uv < worst.uv || q_3d < worst.space) return false;
-      pending_.push_back({f, {q_uv, q_3d}});
+      const Worst shape = shape_of(moved(f));
+      if (!(shape.space > 0) || shape.uv < worst.uv || shape.space < worst.space) return false;
     }
     return true;
+  }
+
+  // Triangle t's shape qualities in the start map and in 3D. Computed where needed: a copy per
+  // triangle cost 20 MB of fresh memory at 1.25M faces and was slower to fill than to recompute.
+  Worst shape_of(const Triangle& t) const {
+    return {quality(uv_[t[0]], uv_[t[1]], uv_[t[2]]),
+            quality(patch_.positions[t[0]], patch_.positions[t[1]], patch_.positions[t[2]])};
   }
 
   // The bound on v's new triangles: min_quality, or the worst of v's star if that is worse.
   Worst worst_of_star(std::uint32_t v) const {
     Worst worst{options_.min_quality, options_.min_quality};
     for (std::uint32_t f : faces_of_[v]) {
-      worst.uv = std::min(worst.uv, shape_[f].uv);
-      worst.space = std::min(worst.space, shape_[f].space);
+      const Worst shape = shape_of(tris_[f]);
+      worst.uv = std::min(worst.uv, shape.uv);
+      worst.space = std::min(worst.space, shape.space);
     }
     return worst;
   }
@@ -327,8 +333,6 @@ class Collapser {
   std::vector<Triangle> tris_;
   std::vector<std::uint8_t> tri_alive_;
   StarLists faces_of_;
-  std::vector<Worst> shape_;  // per triangle: its shape qualities in the start map and in 3D
-  std::vector<std::pair<std::uint32_t, Worst>> pending_;  // a candidate collapse's new shapes
   std::vector<std::uint8_t> boundary_;
   std::vector<std::uint8_t> alive_;
   std::vector<std::uint32_t> parent_;  // a collapsed vertex -> the vertex it moved onto
