@@ -49,7 +49,8 @@ core::HalfedgeMesh disc_of(const std::string& name, std::size_t min_faces) {
   return std::move(core::cut_along_edges(mesh, core::all_cut_edges(seam)).value().mesh);
 }
 
-// Stage by stage on the largest chart: BFF, then SLIM's own breakdown.
+// Stage by stage on the largest chart: BFF, then SLIM's own breakdown, on the whole chart and on
+// the coarse chart of the two-level path with the service's options (coarse_slim_options).
 void breakdown(const std::string& name, const core::HalfedgeMesh& disc) {
   const core::Topology topology = core::compute_topology(disc);
   auto patches = core::extract_disc_patches(disc, topology).value();
@@ -64,7 +65,9 @@ void breakdown(const std::string& name, const core::HalfedgeMesh& disc) {
     slim = core::flatten_slim(*largest, start, {}, core::CancelToken::none()).value();
   });
   const core::TwoLevelResult two =
-      core::slim_two_level(*largest, start, core::default_coarse_vertices(largest->num_vertices()), {}).value();
+      core::slim_two_level(*largest, start, core::default_coarse_vertices(largest->num_vertices()),
+                           core::coarse_slim_options({}))
+          .value();
   const core::SlimTimings& t = slim.timings;
   std::printf("%-10s %9zu %8.0f %8.0f %5d %5d %6.3f %6.3f %4d %7.0f %7.0f %8.0f %7.0f %7.0f %7.0f%s\n",
               name.c_str(), largest->triangles.size(), bff_ms, slim_ms, slim.iterations, slim.factorizations,

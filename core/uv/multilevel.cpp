@@ -462,6 +462,14 @@ std::size_t default_coarse_vertices(std::size_t fine_vertices) {
   return std::max(fine_vertices / kCoarsening, kMinVertices);
 }
 
+SlimOptions coarse_slim_options(SlimOptions slim) {
+  constexpr int kContactSolves = 96;
+  constexpr double kToleranceFactor = 2;
+  slim.contact_solves = kContactSolves;
+  slim.tolerance = std::min(1.0, kToleranceFactor * slim.tolerance);
+  return slim;
+}
+
 Result<TwoLevelResult> slim_two_level(const DiscPatch& patch, const std::vector<Vec2>& start,
                                       std::size_t coarse_vertices, const SlimOptions& slim, const CancelToken& cancel) {
   using Clock = std::chrono::steady_clock;

@@ -93,6 +93,20 @@ struct TwoLevelResult {
 /// at 267k faces (the floor) 30k vertices 1.710 against 1.840, 16.7k 1.969. O(1).
 std::size_t default_coarse_vertices(std::size_t fine_vertices);
 
+/// `slim` as parameterize()'s two-level path runs it on the coarse chart:
+/// - 96 contact solves per step (SlimOptions::contact_solves; 32 elsewhere): the coarse factor
+///   is simplicial and small (52k vertices at 1.25M faces), so a solve costs little, and a
+///   contact that is solved lets its vertex slide where a spring holds it. Camel x64 cut open, in
+///   the service's triangle order, coarse sizes 1/12, 1/16, 1/20, and the chart of camel64.glb:
+///   area_g with 32 solves 1.205 / 1.173 / 1.174 / 1.347, with 96 1.175 / 1.176 / 1.177 / 1.181
+///   (whole-chart SLIM 1.177); 128 was worse at 1/16 (1.190), 64 at 1/12 (1.200).
+/// - Twice `slim`'s tolerance (SLIM's default 1e-3 -> 2e-3): the last steps of a contact-limited
+///   descent gain little. Camel x64 at 1/12 stops after 10 steps instead of 12, its coarse SLIM
+///   1,051 -> 947 ms, area_g 1.1747 -> 1.1776 (whole-chart SLIM 1.177); at 1/8, 1/10 and 1/14
+///   the same steps (5, 5, 12), at 1/16 and 1/20 two fewer (area_g +0.001 each); lion-head x16
+///   (4 steps, no contacts) unchanged.
+SlimOptions coarse_slim_options(SlimOptions slim);
+
 /// SLIM on a coarse copy of `patch` (coarsen_chart to `coarse_vertices`, then flatten_slim
 /// with `slim`, whose vertex_order must be empty), carried back by prolongate; triangles that
 /// the composition folds are unfolded, and those too thin for float32 fattened, by untangle

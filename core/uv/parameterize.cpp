@@ -116,14 +116,6 @@ Vec2 pack_charts(std::vector<Chart>& charts, double gap_fraction) {
   return extent;
 }
 
-// Contact solves per step on the coarse chart (SlimOptions::contact_solves; 32 elsewhere): its
-// factor is simplicial and small (52k vertices at 1.25M faces), so a solve costs little, and a
-// contact that is solved lets its vertex slide where a spring holds it. Camel x64 cut open, in
-// the service's triangle order, coarse sizes 1/12, 1/16, 1/20, and the chart of camel64.glb:
-// area_g with 32 solves 1.205 / 1.173 / 1.174 / 1.347, with 96 1.175 / 1.176 / 1.177 / 1.181
-// (whole-chart SLIM 1.177); 128 was worse at 1/16 (1.190), 64 at 1/12 (1.200).
-constexpr int kCoarseContactSolves = 96;
-
 // SLIM on a coarse copy of a large chart (multilevel.h): BFF's start, coarsened in its own
 // plane, optimised there, and carried back. Empty when the fine map would fold or overlap
 // itself, or the coarse chart failed other than by cancellation (then the caller runs SLIM on
@@ -133,12 +125,11 @@ Result<std::optional<std::vector<Vec2>>> flatten_two_level(const DiscPatch& patc
   SEAM_TRY(std::vector<Vec2> start, flatten_bff(patch, cancel));
   if (repair_flips(patch, start) > 0) return std::optional<std::vector<Vec2>>();
   const std::size_t coarse = default_coarse_vertices(patch.num_vertices());
-  auto two_level = slim_two_level(patch, start, coarse,
-                                  {.iterations = options.slim_iterations,
-                                   .proxy = options.slim_proxy,
-                                   .injective = options.injective,
-                                   .contact_solves = kCoarseContactSolves},
-                                  cancel);
+  auto two_level = slim_two_level(
+      patch, start, coarse,
+      coarse_slim_options(
+          {.iterations = options.slim_iterations, .proxy = options.slim_proxy, .injective = options.injective}),
+      cancel);
   // Cancellation ends the request; any other failure on the coarse chart leaves the chart to
   // SLIM on the whole chart, which reports its own errors.
   if (!two_level.ok() && two_level.error().code == ErrorCode::kCancelled) return two_level.take_error();

@@ -182,6 +182,17 @@ TEST_CASE("the service's coarse size: 1/12 of the vertices above a floor of 30,0
   CHECK(default_coarse_vertices(0) == 30'000);
 }
 
+TEST_CASE("the coarse chart's SLIM: 96 contact solves, twice the tolerance, the rest as given") {
+  const SlimOptions given{.iterations = 7, .tolerance = 1e-3, .proxy = SlimProxy::kAnisotropic, .injective = false};
+  const SlimOptions coarse = coarse_slim_options(given);
+  CHECK(coarse.contact_solves == 96);
+  CHECK(coarse.tolerance == doctest::Approx(2e-3));
+  CHECK(coarse.iterations == 7);
+  CHECK(coarse.proxy == SlimProxy::kAnisotropic);
+  CHECK_FALSE(coarse.injective);
+  CHECK(coarse_slim_options({.tolerance = 0.8}).tolerance == 1.0);  // still a valid tolerance
+}
+
 TEST_CASE("coarsen_chart refuses a folded or mismatched start, and cancellation") {
   DomeCase c = dome_case(8, 24);
   auto short_map = coarsen_chart(c.patch, std::vector<Vec2>(3), {});
