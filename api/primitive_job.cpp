@@ -9,6 +9,7 @@
 #include <unordered_set>
 #include <utility>
 
+#include "api/process_env.h"
 #include "api/surface.h"
 #include "core/atlas/features.h"
 #include "core/mesh/cut.h"
@@ -555,6 +556,7 @@ ApiResult<PrimitiveResult> process_primitive(const PrimitiveData& data, const Ex
   t = core::StageClock::now();
   std::optional<core::UvResult> uv;
   if (params.uv) {
+    release_free_memory_before_flattening(cut->mesh.num_faces());
     core::UvOptions uv_options;
     uv_options.method = *params.uv;
     auto flattened = core::parameterize(cut->mesh, cut_topology, uv_options, cancel);

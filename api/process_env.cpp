@@ -37,4 +37,8 @@ void keep_freed_memory_for_short_job() {
   mallopt(M_TRIM_THRESHOLD, kTrimThreshold);
 }
 
+void release_free_memory_before_flattening(std::size_t faces) {
+  if (faces >= kReleaseBeforeFlatteningFaces) malloc_trim(0);
+}
+
 }  // namespace seam::api

@@ -25,6 +25,7 @@
 // steady, so they are the caller's choice: GLIBC_TUNABLES=glibc.malloc.hugetlb=1 turns them on.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace seam::api {
@@ -52,6 +53,15 @@ void reexec_with(const ProcessEnv& wanted, char** argv);
 /// should give memory back, and the 1.25M-face job took 9.5-9.8 s with these thresholds
 /// against 7.8-8.4 s without (2026-12-04).
 void keep_freed_memory_for_short_job();
+
+/// Gives the free memory in malloc's heaps back to the system (glibc's malloc_trim), before a
+/// large job's flattening: BFF's factorization is the default job's peak, and what the weld,
+/// seam and cut stages freed would otherwise stay resident under it. Does nothing below
+/// kReleaseBeforeFlatteningFaces faces, where the next small job would only fault the memory in
+/// again. The default job at 1.25M faces (`scripts/memory-bench.py --levels 3`, three pairs):
+/// peak 946 -> 921 MiB, the same time (9.2-9.9 s). Thread-safe.
+void release_free_memory_before_flattening(std::size_t faces);
+inline constexpr std::size_t kReleaseBeforeFlatteningFaces = 200000;
 
 /// The input size from which `seamd seam` executes itself again (without OpenBLAS's thread
 /// pool) instead of keeping freed memory for a short job: a second start costs about 20 ms
