@@ -72,6 +72,7 @@ TEST_CASE("process env: in place when every wanted setting is in the environment
   }
 }
 
+#if !defined(__SANITIZE_ADDRESS__)
 namespace {
 
 // Resident bytes of this process (/proc/self/statm's second field, in pages).
@@ -86,6 +87,7 @@ std::size_t resident_bytes() {
 }
 
 }  // namespace
+#endif
 
 TEST_CASE("process env: free heap memory goes back to the system before a large flattening only") {
 #if defined(__SANITIZE_ADDRESS__)
