@@ -102,9 +102,10 @@ std::size_t default_coarse_vertices(std::size_t fine_vertices);
 ///   (whole-chart SLIM 1.177); 128 was worse at 1/16 (1.190), 64 at 1/12 (1.200).
 /// - Twice `slim`'s tolerance (SLIM's default 1e-3 -> 2e-3): the last steps of a contact-limited
 ///   descent gain little. Camel x64 at 1/12 stops after 10 steps instead of 12, its coarse SLIM
-///   1,051 -> 947 ms, area_g 1.1747 -> 1.1776 (whole-chart SLIM 1.177); at 1/8, 1/10 and 1/14
-///   the same steps (5, 5, 12), at 1/16 and 1/20 two fewer (area_g +0.001 each); lion-head x16
-///   (4 steps, no contacts) unchanged.
+///   976-1,049 -> 877-890 ms (three interleaved pairs), area_g 1.1747 -> 1.1776 (whole-chart
+///   SLIM 1.177); at 1/8, 1/10 and 1/14 the same steps (5, 5, 12), at 1/16 and 1/20 two fewer
+///   (area_g +0.001 each); lion-head x16 (4 steps, no contacts) unchanged.
+/// The tolerance stays within SLIM's 0..1. O(1).
 SlimOptions coarse_slim_options(SlimOptions slim);
 
 /// SLIM on a coarse copy of `patch` (coarsen_chart to `coarse_vertices`, then flatten_slim
