@@ -68,6 +68,27 @@ std::size_t prune_dangling(const HalfedgeMesh& mesh, std::vector<char>& feature,
   return removed;
 }
 
+// Removes every lone edge: both ends interior and on no other feature. Cutting cannot open it
+// (cut_along_edges refuses such a slit), however long it is. Returns how many it removed.
+std::size_t drop_lone_edges(const HalfedgeMesh& mesh, std::vector<char>& feature) {
+  std::vector<std::uint32_t> degree(mesh.num_vertices(), 0);
+  for (std::size_t e = 0; e < feature.size(); ++e) {
+    if (!feature[e]) continue;
+    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+    ++degree[mesh.tail(h).index()];
+    ++degree[mesh.head(h).index()];
+  }
+  auto free_end = [&](VertexId v) { return !mesh.is_boundary(v) && degree[v.index()] == 1; };
+  std::size_t removed = 0;
+  for (std::size_t e = 0; e < feature.size(); ++e) {
+    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
+    if (!feature[e] || !free_end(mesh.tail(h)) || !free_end(mesh.head(h))) continue;
+    feature[e] = 0;  // its ends had no other feature, so no other edge's test changes
+    ++removed;
+  }
+  return removed;
+}
+
 }  // namespace
 
 Result<FeatureEdges> find_feature_edges(const HalfedgeMesh& mesh, const FeatureOptions& options,
@@ -104,6 +125,7 @@ Result<FeatureEdges> find_feature_edges(const HalfedgeMesh& mesh, const FeatureO
                                                                   : options.max_dangling_fraction * bounding_diagonal(mesh);
     out.pruned = prune_dangling(mesh, feature, max_length);
   }
+  out.pruned += drop_lone_edges(mesh, feature);
   for (std::size_t i = 0; i < feature.size(); ++i) {
     if (feature[i]) out.edges.push_back(EdgeId(i));
   }

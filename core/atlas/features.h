@@ -19,14 +19,16 @@ struct FeatureOptions {
   /// mesh boundary) up to the first vertex where it meets other features or the boundary. Such
   /// a slit separates nothing; pieces shorter than this fraction of the bounding-box diagonal
   /// are dropped (repeatedly, as dropping one can leave another). 0..1; 0 keeps them all, 1
-  /// drops every dangling piece.
+  /// drops every dangling piece. A lone edge (both ends interior and on no other feature) is
+  /// dropped whatever its length and this fraction: cutting cannot open it (cut_along_edges
+  /// refuses the slit; fuzz F17).
   double max_dangling_fraction = 0.1;
 };
 
 struct FeatureEdges {
   std::vector<EdgeId> edges;  ///< sorted, unique, interior edges only
   std::size_t sharp = 0;      ///< edges above the angle, before pruning
-  std::size_t pruned = 0;     ///< of those, dropped as short dangling pieces
+  std::size_t pruned = 0;     ///< of those, dropped as dangling pieces (short ones, and lone edges)
   double ms = 0;
 };
 

@@ -1,13 +1,15 @@
 // Feature edges: a cube's 12 edges (its face diagonals are flat), none on a smooth sphere,
 // the angle threshold as the definition says, dangling creases pruned by length, and the cube
 // cut along its features opens into 6 squares flattened with angle distortion 1.
+#include "core/atlas/features.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
-#include "core/atlas/features.h"
 #include "core/mesh/cut.h"
 #include "core/mesh/topology.h"
 #include "core/uv/parameterize.h"
@@ -45,10 +47,33 @@ fx::Soup fading_crease() {
   return s;
 }
 
-/// Brute-force oracle: interior edges whose face normals differ by more than `deg` degrees,
+/// A sheet over [0,2] x [0,1] on an 8 x 4 grid whose two middle columns (x = 1, 1.25) rise by
+/// |y - 1/2|: one sharp edge (90 degrees) lies on y = 1/2 between those columns, both its ends
+/// interior and on no other sharp edge (a lone edge), and two more run in from the boundary.
+fx::Soup lone_crease() {
+  fx::Soup s;
+  const int nx = 8;
+  const int ny = 4;
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      const double y = 1.0 * j / ny;
+      s.positions.emplace_back(2.0 * i / nx, y, (i == 4 || i == 5) ? std::abs(y - 0.5) : 0.0);
+    }
+  }
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return s;
+}
+
+/// Brute-force oracle: the interior edges whose face normals differ by more than `deg` degrees,
 /// with the angle from atan2 of |n0 x n1| and n0 . n1.
-std::size_t count_sharp(const HalfedgeMesh& mesh, double deg) {
-  std::size_t count = 0;
+std::vector<EdgeId> sharp_edges(const HalfedgeMesh& mesh, double deg) {
+  std::vector<EdgeId> sharp;
   for (std::size_t i = 0; i < mesh.num_edges(); ++i) {
     const EdgeId e(i);
     if (mesh.is_boundary(e)) continue;
@@ -58,9 +83,13 @@ std::size_t count_sharp(const HalfedgeMesh& mesh, double deg) {
       n[side] = (mesh.position(v[1]) - mesh.position(v[0])).cross(mesh.position(v[2]) - mesh.position(v[0]));
     }
     const double angle = std::atan2(n[0].cross(n[1]).norm(), n[0].dot(n[1])) * 180 / std::numbers::pi;
-    if (angle > deg) ++count;
+    if (angle > deg) sharp.push_back(e);
   }
-  return count;
+  return sharp;
+}
+
+std::size_t count_sharp(const HalfedgeMesh& mesh, double deg) {
+  return sharp_edges(mesh, deg).size();
 }
 
 }  // namespace
@@ -129,6 +158,25 @@ TEST_CASE("a crease that fades out is a dangling piece: kept when long, dropped 
   REQUIRE(drop.ok());
   CHECK(drop->edges.empty());
   CHECK(drop->pruned == sharp);
+}
+
+TEST_CASE("a lone sharp edge is never a feature: cutting could not open it (fuzz F17)") {
+  const HalfedgeMesh sheet = fx::build_fixture(lone_crease());
+  const std::vector<EdgeId> sharp = sharp_edges(sheet, 62);  // (edges at exactly 60 degrees: a rounding tie)
+  REQUIRE(sharp.size() == 3);
+  // Every sharp edge, the lone one too: the cut refuses it as a slit.
+  auto all = cut_along_edges(sheet, sharp);
+  REQUIRE_FALSE(all.ok());
+  CHECK(all.error().code == ErrorCode::kTopologyViolation);
+  for (const double fraction : {0.0, 0.1}) {  // keep every dangling piece, or the default
+    auto found = find_feature_edges(sheet, {.feature_angle_deg = 62, .max_dangling_fraction = fraction});
+    REQUIRE(found.ok());
+    CHECK(found->sharp == 3);
+    CHECK(found->edges.size() == 2);  // the two from the boundary, 0.25 long (over 0.1 x 2.29)
+    CHECK(found->pruned == 1);
+    auto cut = cut_along_edges(sheet, found->edges);
+    CHECK(cut.ok());
+  }
 }
 
 TEST_CASE("feature options out of range are typed errors") {
