@@ -23,18 +23,14 @@ namespace fx = seam::fixtures;
 
 namespace {
 
-/// A sheet over [0,2] x [0,1] creased along y = 1/2 for small x: z = 2 max(0, 1 - x) |y - 1/2|.
-/// The crease's dihedral angle 2 atan(2 (1 - x)) falls below 60 degrees at x = 0.71, so it
-/// runs from the boundary at x = 0 to an interior end: a dangling piece of length ~0.7.
-fx::Soup fading_crease() {
+/// A sheet over [0,2] x [0,1] on an nx x ny grid with heights height(i, y) at column i.
+template <class Height>
+fx::Soup sheet(int nx, int ny, Height height) {
   fx::Soup s;
-  const int nx = 40;
-  const int ny = 10;
   for (int j = 0; j <= ny; ++j) {
     for (int i = 0; i <= nx; ++i) {
-      const double x = 2.0 * i / nx;
       const double y = 1.0 * j / ny;
-      s.positions.emplace_back(x, y, 2 * std::max(0.0, 1 - x) * std::abs(y - 0.5));
+      s.positions.emplace_back(2.0 * i / nx, y, height(i, y));
     }
   }
   auto id = [&](int i, int j) { return static_cast<std::uint32_t>(j * (nx + 1) + i); };
@@ -47,27 +43,18 @@ fx::Soup fading_crease() {
   return s;
 }
 
-/// A sheet over [0,2] x [0,1] on an 8 x 4 grid whose two middle columns (x = 1, 1.25) rise by
-/// |y - 1/2|: one sharp edge (90 degrees) lies on y = 1/2 between those columns, both its ends
-/// interior and on no other sharp edge (a lone edge), and two more run in from the boundary.
+/// Creased along y = 1/2 for small x: z = 2 max(0, 1 - x) |y - 1/2| on a 40 x 10 grid. The
+/// crease's dihedral angle 2 atan(2 (1 - x)) falls below 60 degrees at x = 0.71, so it runs
+/// from the boundary at x = 0 to an interior end: a dangling piece of length ~0.7.
+fx::Soup fading_crease() {
+  return sheet(40, 10, [](int i, double y) { return 2 * std::max(0.0, 1 - 2.0 * i / 40) * std::abs(y - 0.5); });
+}
+
+/// On an 8 x 4 grid whose two middle columns (x = 1, 1.25) rise by |y - 1/2|: one sharp edge
+/// (90 degrees) lies on y = 1/2 between those columns, both its ends interior and on no other
+/// sharp edge (a lone edge), and two more (63 degrees) run in from the boundary.
 fx::Soup lone_crease() {
-  fx::Soup s;
-  const int nx = 8;
-  const int ny = 4;
-  for (int j = 0; j <= ny; ++j) {
-    for (int i = 0; i <= nx; ++i) {
-      const double y = 1.0 * j / ny;
-      s.positions.emplace_back(2.0 * i / nx, y, (i == 4 || i == 5) ? std::abs(y - 0.5) : 0.0);
-    }
-  }
-  auto id = [&](int i, int j) { return static_cast<std::uint32_t>(j * (nx + 1) + i); };
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) {
-      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  }
-  return s;
+  return sheet(8, 4, [](int i, double y) { return (i == 4 || i == 5) ? std::abs(y - 0.5) : 0.0; });
 }
 
 /// Brute-force oracle: the interior edges whose face normals differ by more than `deg` degrees,
