@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include "core/mesh/cut.h"
 #include "core/timing.h"
 
 namespace seam::core {
@@ -28,7 +29,7 @@ double bounding_diagonal(const HalfedgeMesh& mesh) {
 }
 
 // Removes dangling pieces shorter than max_length; returns how many edges it removed.
-std::size_t prune_dangling(const HalfedgeMesh& mesh, std::vector<char>& feature, double max_length) {
+std::size_t prune_dangling(const HalfedgeMesh& mesh, std::vector<std::uint8_t>& feature, double max_length) {
   const std::size_t nv = mesh.num_vertices();
   std::size_t removed = 0;
   auto degree = [&](VertexId v) {
@@ -69,20 +70,12 @@ std::size_t prune_dangling(const HalfedgeMesh& mesh, std::vector<char>& feature,
 }
 
 // Removes every lone edge: both ends interior and on no other feature. Cutting cannot open it
-// (cut_along_edges refuses such a slit), however long it is. Returns how many it removed.
-std::size_t drop_lone_edges(const HalfedgeMesh& mesh, std::vector<char>& feature) {
-  std::vector<std::uint32_t> degree(mesh.num_vertices(), 0);
-  for (std::size_t e = 0; e < feature.size(); ++e) {
-    if (!feature[e]) continue;
-    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
-    ++degree[mesh.tail(h).index()];
-    ++degree[mesh.head(h).index()];
-  }
-  auto free_end = [&](VertexId v) { return !mesh.is_boundary(v) && degree[v.index()] == 1; };
+// (cut_along_edges refuses the slit, is_slit), however long it is. Returns how many it removed.
+std::size_t drop_lone_edges(const HalfedgeMesh& mesh, std::vector<std::uint8_t>& feature) {
+  const std::vector<std::uint32_t> degree = cut_degrees(mesh, feature);
   std::size_t removed = 0;
   for (std::size_t e = 0; e < feature.size(); ++e) {
-    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
-    if (!feature[e] || !free_end(mesh.tail(h)) || !free_end(mesh.head(h))) continue;
+    if (!feature[e] || !is_slit(mesh, degree, EdgeId(e))) continue;
     feature[e] = 0;  // its ends had no other feature, so no other edge's test changes
     ++removed;
   }
@@ -102,7 +95,7 @@ Result<FeatureEdges> find_feature_edges(const HalfedgeMesh& mesh, const FeatureO
     return make_error(ErrorCode::kInvalidArgument, "max_dangling_fraction must be in 0..1");
   }
   const double cos_limit = std::cos(options.feature_angle_deg * std::numbers::pi / 180);
-  std::vector<char> feature(mesh.num_edges(), 0);
+  std::vector<std::uint8_t> feature(mesh.num_edges(), 0);
   FeatureEdges out;
   std::uint32_t poll = 0;
   for (std::size_t i = 0; i < mesh.num_edges(); ++i) {

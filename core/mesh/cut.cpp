@@ -56,8 +56,22 @@ Error slit_error(const HalfedgeMesh& mesh, std::size_t e) {
                     {static_cast<std::uint32_t>(e)});
 }
 
-// Per vertex, the cut edges at it.
-std::vector<std::uint32_t> cut_degrees(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut) {
+// An interior cut edge both of whose ends keep a single wedge (a slit between two vertices
+// touching no other cut) would be glued shut again: a two-edge boundary loop is not a
+// simplicial mesh. Reported instead of silently leaving the edge closed. The builder gives
+// every vertex one cycle or one fan of corners, so an end keeps a single wedge exactly when
+// it is an interior vertex on no other cut edge.
+Status check_no_slit(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut,
+                     const std::vector<std::uint32_t>& cut_degree) {
+  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
+    if (is_cut[e] && is_slit(mesh, cut_degree, EdgeId(e))) return slit_error(mesh, e);
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> cut_degrees(const HalfedgeMesh& mesh, std::span<const std::uint8_t> is_cut) {
   std::vector<std::uint32_t> degree(mesh.num_vertices(), 0);
   for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
     if (!is_cut[e]) continue;
@@ -68,25 +82,13 @@ std::vector<std::uint32_t> cut_degrees(const HalfedgeMesh& mesh, const std::vect
   return degree;
 }
 
-// An interior cut edge both of whose ends keep a single wedge (a slit between two vertices
-// touching no other cut) would be glued shut again: a two-edge boundary loop is not a
-// simplicial mesh. Reported instead of silently leaving the edge closed. The builder gives
-// every vertex one cycle or one fan of corners, so an end keeps a single wedge exactly when
-// it is an interior vertex on no other cut edge.
-Status check_no_slit(const HalfedgeMesh& mesh, const std::vector<std::uint8_t>& is_cut,
-                     const std::vector<std::uint32_t>& cut_degree) {
+bool is_slit(const HalfedgeMesh& mesh, std::span<const std::uint32_t> cut_degree, EdgeId e) {
+  const HalfedgeId a = HalfedgeMesh::halfedge(e, 0);
+  const HalfedgeId b = HalfedgeMesh::halfedge(e, 1);
+  if (mesh.is_boundary(a) || mesh.is_boundary(b)) return false;
   auto single_wedge = [&](VertexId v) { return !mesh.is_boundary(v) && cut_degree[v.index()] == 1; };
-  for (std::size_t e = 0; e < mesh.num_edges(); ++e) {
-    if (!is_cut[e]) continue;
-    const HalfedgeId a = HalfedgeMesh::halfedge(EdgeId(e), 0);
-    const HalfedgeId b = HalfedgeMesh::halfedge(EdgeId(e), 1);
-    if (mesh.is_boundary(a) || mesh.is_boundary(b)) continue;
-    if (single_wedge(mesh.tail(a)) && single_wedge(mesh.head(a))) return slit_error(mesh, e);
-  }
-  return Ok{};
+  return single_wedge(mesh.tail(a)) && single_wedge(mesh.head(a));
 }
-
-}  // namespace
 
 Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId> edges) {
   SEAM_TRY(const std::vector<std::uint8_t> is_cut, cut_flags(mesh, edges));

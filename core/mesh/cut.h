@@ -1,7 +1,9 @@
 // Cutting a mesh open along edges: the seam and cut graph become boundary.
 #pragma once
 
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "core/cancel.h"
 #include "core/error.h"
@@ -18,8 +20,18 @@ struct CutMesh {
 
 /// Duplicates vertices along `edges` so that those edges become boundary. A vertex is
 /// duplicated once per wedge (maximal fan of faces between cut edges or boundary).
-/// Errors: kInvalidArgument (edge id out of range). O(V + E + F).
+/// Errors: kInvalidArgument (edge id out of range), kTopologyViolation (an edge that would be a
+/// slit, see is_slit; the message and elements name the first). O(V + E + F).
 Result<CutMesh> cut_along_edges(const HalfedgeMesh& mesh, std::span<const EdgeId> edges);
+
+/// Per vertex, how many of the flagged edges (`is_cut`: one flag per edge) meet it. O(V + E).
+std::vector<std::uint32_t> cut_degrees(const HalfedgeMesh& mesh, std::span<const std::uint8_t> is_cut);
+
+/// Whether cutting edge e, with `cut_degree` from cut_degrees over the whole cut, would open a
+/// slit that cut_along_edges refuses: e is interior and both its ends are interior vertices on
+/// no other cut edge, so each keeps a single wedge and the two-edge boundary loop would not be
+/// a simplicial mesh. O(1).
+bool is_slit(const HalfedgeMesh& mesh, std::span<const std::uint32_t> cut_degree, EdgeId e);
 
 /// Checks that every connected component of `mesh` is a topological disc (Euler
 /// characteristic 1, exactly one boundary loop); kTopologyViolation names the first that is not.

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <numeric>
 
-#include "core/paths/geodesic.h"
+#include "core/mesh/cut.h"
 #include "core/mesh/submesh.h"
 #include "core/mesh/topology.h"
+#include "core/paths/geodesic.h"
 
 namespace seam::core {
 
@@ -119,13 +120,7 @@ Status add_cotree_leftovers(const ConedMesh& coned, const ShortestPathTree& spt,
 // apexes, so every boundary loop stays joined.
 Status prune_dangling(const ConedMesh& coned, std::vector<std::uint8_t>& in_graph, const CancelToken& cancel) {
   const HalfedgeMesh& closed = coned.mesh;
-  std::vector<std::uint32_t> degree(closed.num_vertices(), 0);
-  for (std::size_t e = 0; e < closed.num_edges(); ++e) {
-    if (!in_graph[e]) continue;
-    const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(e));
-    ++degree[closed.tail(h).index()];
-    ++degree[closed.head(h).index()];
-  }
+  std::vector<std::uint32_t> degree = cut_degrees(closed, in_graph);
   std::vector<VertexId> stack;
   for (std::size_t v = 0; v < closed.num_vertices(); ++v) {
     if (degree[v] == 1 && !coned.is_apex(VertexId(v))) stack.push_back(VertexId(v));
