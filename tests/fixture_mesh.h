@@ -8,10 +8,12 @@
 
 namespace seam::fixtures {
 
-/// Builds the half-edge mesh of a fixture, failing the test if the builder refuses it.
+/// Builds the half-edge mesh of a fixture, failing the test if the builder refuses it or the
+/// mesh it builds breaks the half-edge invariants.
 inline core::HalfedgeMesh build_fixture(const Soup& s) {
   auto mesh = core::build_halfedge_mesh(s.positions, s.triangles);
   REQUIRE_MESSAGE(mesh.ok(), (mesh.ok() ? "" : mesh.error().message));
+  REQUIRE(core::check_invariants(*mesh).ok());
   return std::move(mesh).value();
 }
 

@@ -1,3 +1,5 @@
+#include "core/extrema/extrema.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -7,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "core/extrema/extrema.h"
-#include "core/paths/geodesic.h"
 #include "core/mesh/topology.h"
+#include "core/paths/geodesic.h"
 #include "extrema_fixtures.h"
+#include "fixture_mesh.h"
 #include "fixtures.h"
 #include "test_data.h"
 
@@ -20,13 +22,6 @@ using namespace seam::core;
 namespace fx = seam::fixtures;
 
 namespace {
-
-HalfedgeMesh build(const fx::Soup& soup) {
-  auto mesh = build_halfedge_mesh(soup.positions, soup.triangles);
-  REQUIRE_MESSAGE(mesh.ok(), (mesh.ok() ? "" : mesh.error().message));
-  REQUIRE(check_invariants(*mesh).ok());
-  return std::move(mesh).value();
-}
 
 ExtremaResult detect(const HalfedgeMesh& mesh, const ExtremaOptions& options = {}) {
   auto result = detect_extrema(mesh, options);
@@ -76,7 +71,7 @@ const fx::ShapeWithTips& hand() {
 }  // namespace
 
 TEST_CASE("extrema: options out of range are refused with kInvalidArgument") {
-  const HalfedgeMesh mesh = build(fx::icosphere(1));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(1));
   for (double bad : {-0.1, std::nan(""), std::numeric_limits<double>::infinity()}) {
     auto r = find_extrema(mesh, {.min_protrusion = bad});
     REQUIRE_FALSE(r.ok());
@@ -91,7 +86,7 @@ TEST_CASE("extrema: options out of range are refused with kInvalidArgument") {
 TEST_CASE("extrema: a round shape has no protrusion") {
   // The estimate's wiggles on a sphere stay far below the default threshold (measured
   // largest prominence 0.02 here), and a sphere is not made of protrusions.
-  const HalfedgeMesh mesh = build(fx::icosphere(4));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(4));
   const auto result = detect(mesh);
   CHECK(result.extrema.empty());
   CHECK(result.stats.components == 1);
@@ -99,7 +94,7 @@ TEST_CASE("extrema: a round shape has no protrusion") {
 }
 
 TEST_CASE("extrema: min_protrusion 0 keeps every local maximum of the AGD, each a strict local maximum") {
-  const HalfedgeMesh mesh = build(fx::icosphere(3));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(3));
   const auto result = detect(mesh, {.min_protrusion = 0, .max_count = 0, .min_separation = 0});
   CHECK(result.extrema.size() == result.stats.local_maxima);
   auto field = average_geodesic_distance(mesh, ExtremaOptions{}.samples);
@@ -121,7 +116,7 @@ TEST_CASE("extrema: min_protrusion 0 keeps every local maximum of the AGD, each 
 
 TEST_CASE("extrema: spikes on a sphere, exactly those tips and not the wart") {
   const auto& shape = ball();
-  const HalfedgeMesh mesh = build(shape.soup);
+  const HalfedgeMesh mesh = fx::build_fixture(shape.soup);
   const auto result = detect(mesh);
   check_same_tips(mesh, result.extrema, shape.tips, 0.3);
   // The tips stand far above the filter and the wart far below it: a clear gap.
@@ -141,19 +136,19 @@ TEST_CASE("extrema: spikes on a sphere, exactly those tips and not the wart") {
 
 TEST_CASE("extrema: a hand of cylinders on a palm, exactly the five fingertips and the wrist") {
   const auto& shape = hand();
-  const HalfedgeMesh mesh = build(shape.soup);
+  const HalfedgeMesh mesh = fx::build_fixture(shape.soup);
   const auto result = detect(mesh);
   check_same_tips(mesh, result.extrema, shape.tips, 0.3);
 }
 
 TEST_CASE("extrema: invariant to rigid motion and uniform scale") {
   for (const auto* shape : {&ball(), &hand()}) {
-    const HalfedgeMesh mesh = build(shape->soup);
+    const HalfedgeMesh mesh = fx::build_fixture(shape->soup);
     const auto reference = detect(mesh);
     for (double scale : {0.01, 1.0, 250.0}) {
       const auto moved =
           fx::transformed(*shape, fx::rotation(Vec3(1, -2, 0.5), 2.1), scale, Vec3(3.0, -7.0, 11.0) * scale);
-      const HalfedgeMesh moved_mesh = build(moved.soup);
+      const HalfedgeMesh moved_mesh = fx::build_fixture(moved.soup);
       const auto result = detect(moved_mesh);
       INFO("scale " << scale);
       // Same vertex ids (vertex numbering is unchanged by the motion) and same prominence.
@@ -170,16 +165,16 @@ TEST_CASE("extrema: invariant to rigid motion and uniform scale") {
 TEST_CASE("extrema: insensitive to the tessellation (remeshed finer, subdivided 1-to-4)") {
   SUBCASE("spiky ball meshed on a finer grid") {
     const auto fine = fx::six_spike_ball(0.045, true);
-    const HalfedgeMesh mesh = build(fine.soup);
+    const HalfedgeMesh mesh = fx::build_fixture(fine.soup);
     check_same_tips(mesh, detect(mesh).extrema, fine.tips, 0.3);
   }
   SUBCASE("hand meshed on a finer grid") {
     const auto fine = fx::capsule_hand(0.04);
-    const HalfedgeMesh mesh = build(fine.soup);
+    const HalfedgeMesh mesh = fx::build_fixture(fine.soup);
     check_same_tips(mesh, detect(mesh).extrema, fine.tips, 0.3);
   }
   SUBCASE("spiky ball subdivided 1-to-4 (multi-resolution path), one and two threads bit-identical") {
-    const HalfedgeMesh mesh = build(fx::subdivided(ball().soup));
+    const HalfedgeMesh mesh = fx::build_fixture(fx::subdivided(ball().soup));
     REQUIRE(mesh.num_vertices() > 40000);  // large enough for the coarse cell graph
     const auto one = detect(mesh, {.threads = 1});
     const auto two = detect(mesh, {.threads = 2});
@@ -197,7 +192,7 @@ TEST_CASE("extrema: per component, each judged against its own area") {
   // total area but large against its own, so they are kept.
   const auto small_ball = fx::transformed(ball(), Eigen::Matrix3d::Identity(), 0.01, Vec3(50, 0, 0));
   const auto soup = fx::join(hand().soup, small_ball.soup);
-  const HalfedgeMesh mesh = build(soup);
+  const HalfedgeMesh mesh = fx::build_fixture(soup);
   const Topology topo = compute_topology(mesh);
   REQUIRE(topo.components.size() == 2);
   const auto result = detect(mesh);
@@ -217,7 +212,7 @@ TEST_CASE("extrema: per component, each judged against its own area") {
 TEST_CASE("extrema: max_count keeps the most prominent, isolated vertices are ignored") {
   fx::Soup soup = hand().soup;
   soup.positions.emplace_back(100, 100, 100);  // an isolated vertex
-  const HalfedgeMesh mesh = build(soup);
+  const HalfedgeMesh mesh = fx::build_fixture(soup);
   const auto all = detect(mesh);
   const auto three = detect(mesh, {.max_count = 3});
   REQUIRE(all.extrema.size() == 6);
@@ -271,7 +266,7 @@ TEST_CASE("extrema: small closed parts: boxes and plates get none, a rod its two
     soup = fx::join(soup, i < 6 ? box_part(0.1, at) : plate_part(0.15, at));
   }
   soup = fx::join(soup, fx::translated(rod_part(0.05, Vec3(0, 0, 0)), Vec3(4, -1, 0)));
-  const HalfedgeMesh mesh = build(soup);
+  const HalfedgeMesh mesh = fx::build_fixture(soup);
   const Topology topo = compute_topology(mesh);
   REQUIRE(topo.components.size() == 14);
   // Measured without the small-part rule: the prominences the rule separates.
@@ -298,7 +293,7 @@ TEST_CASE("extrema: small closed parts: boxes and plates get none, a rod its two
 }
 
 TEST_CASE("extrema: never a vertex twice, and kept tips of a component at least min_separation apart") {
-  const HalfedgeMesh mesh = build(fx::join(box_part(1, Vec3(0, 0, 0)), fx::icosphere(3)));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::join(box_part(1, Vec3(0, 0, 0)), fx::icosphere(3)));
   for (double separation : {0.05, 0.2, 0.5}) {
     CAPTURE(separation);
     const auto result = detect(mesh, {.min_protrusion = 0, .max_count = 0, .min_separation = separation});
@@ -324,7 +319,7 @@ TEST_CASE("extrema: never a vertex twice, and kept tips of a component at least 
 }
 
 TEST_CASE("extrema: the new options out of range are refused") {
-  const HalfedgeMesh mesh = build(fx::tetrahedron());
+  const HalfedgeMesh mesh = fx::build_fixture(fx::tetrahedron());
   for (const ExtremaOptions& bad : {ExtremaOptions{.min_separation = -1}, ExtremaOptions{.small_part = std::nan("")},
                                     ExtremaOptions{.small_part_protrusion = -0.1}}) {
     auto r = detect_extrema(mesh, bad);
@@ -334,7 +329,7 @@ TEST_CASE("extrema: the new options out of range are refused") {
 }
 
 TEST_CASE("extrema: a cancelled token stops detection with kCancelled") {
-  const HalfedgeMesh mesh = build(fx::icosphere(3));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(3));
   CancelToken token;
   token.cancel();
   auto r = find_extrema(mesh, {}, token);
@@ -344,7 +339,7 @@ TEST_CASE("extrema: a cancelled token stops detection with kCancelled") {
 
 TEST_CASE("extrema: surfaces with boundary and tiny components do not break detection") {
   const auto soup = fx::join(fx::open_cylinder(), fx::translated(fx::tetrahedron(), Vec3(5, 0, 0)));
-  const HalfedgeMesh mesh = build(soup);
+  const HalfedgeMesh mesh = fx::build_fixture(soup);
   const auto result = detect(mesh);
   CHECK(result.stats.components == 2);
   for (const auto& e : result.extrema) CHECK(e.vertex.index() < mesh.num_vertices());

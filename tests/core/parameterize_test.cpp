@@ -18,6 +18,7 @@
 #include "core/seam/cut_graph.h"
 #include "core/seam/seam.h"
 #include "core/uv/distortion.h"
+#include "fixture_mesh.h"
 #include "fixtures.h"
 #include "test_data.h"
 #include "uv_fixture.h"
@@ -28,13 +29,6 @@ using namespace seam::core;
 using seam::fixtures::Soup;
 
 namespace {
-
-HalfedgeMesh build(const Soup& s) {
-  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
-  REQUIRE_MESSAGE(mesh.ok(), (mesh.ok() ? "" : mesh.error().message));
-  REQUIRE(check_invariants(*mesh).ok());
-  return std::move(mesh).value();
-}
 
 /// An open cylinder of radius r and height h generated directly as a cut-open grid: the
 /// meridian at angle 0 appears twice, so the surface is a disc isometric to a 2 pi r x h
@@ -116,7 +110,7 @@ constexpr UvMethod kAllMethods[] = {UvMethod::kLscm, UvMethod::kBff, UvMethod::k
 }  // namespace
 
 TEST_CASE("a flat disc maps isometrically with every method") {
-  const HalfedgeMesh mesh = build(seam::fixtures::disc(8, 24));
+  const HalfedgeMesh mesh = seam::fixtures::build_fixture(seam::fixtures::disc(8, 24));
   for (UvMethod m : kAllMethods) {
     CAPTURE(std::string(uv_method_name(m)));
     auto r = parameterize(mesh, {.method = m});
@@ -139,7 +133,7 @@ TEST_CASE("a flat disc maps isometrically with every method") {
 TEST_CASE("an open cylinder cut along a meridian unrolls into its 2 pi r x h rectangle") {
   const double r = 1.0;
   const double h = 2.0;
-  const HalfedgeMesh mesh = build(cut_cylinder(48, 12, r, h));
+  const HalfedgeMesh mesh = seam::fixtures::build_fixture(cut_cylinder(48, 12, r, h));
   const double aspect = 2 * std::numbers::pi * r / h;
   for (UvMethod m : kAllMethods) {
     CAPTURE(std::string(uv_method_name(m)));
@@ -164,7 +158,7 @@ TEST_CASE("an open cylinder cut along a meridian unrolls into its 2 pi r x h rec
 }
 
 TEST_CASE("a hemisphere flattens as the theory predicts") {
-  const HalfedgeMesh mesh = build(hemisphere(4));
+  const HalfedgeMesh mesh = seam::fixtures::build_fixture(hemisphere(4));
   REQUIRE(compute_topology(mesh).boundary_loops.size() == 1);
   UvResult by_method[4];
   for (UvMethod m : kAllMethods) {
@@ -206,7 +200,7 @@ TEST_CASE("BFF with u = 0 flattens a latitude-longitude hemisphere like stereogr
   const int rows = 16;
   const HalfSoup half = upper_half(seam::fixtures::uv_sphere(around, rows, /*split=*/false));
   const std::vector<std::uint32_t>& remap = half.remap;
-  const HalfedgeMesh mesh = build(half.soup);
+  const HalfedgeMesh mesh = seam::fixtures::build_fixture(half.soup);
   auto res = parameterize(mesh, {.method = UvMethod::kBff});
   REQUIRE(res.ok());
   CHECK(res->distortion.flipped == 0);
@@ -233,7 +227,7 @@ TEST_CASE("several charts are packed side by side without overlap") {
   const Soup b = seam::fixtures::translated(cut_cylinder(16, 4, 0.5, 3.0), Vec3(5, 0, 0));
   const Soup c = seam::fixtures::translated(seam::fixtures::disc(3, 10), Vec3(-5, 0, 0));
   const Soup all = seam::fixtures::join(seam::fixtures::join(a, b), c);
-  const HalfedgeMesh mesh = build(all);
+  const HalfedgeMesh mesh = seam::fixtures::build_fixture(all);
   auto res = parameterize(mesh);
   REQUIRE(res.ok());
   CHECK(res->charts == 3);
@@ -298,24 +292,24 @@ TEST_CASE("distortion metrics of known affine maps") {
 
 TEST_CASE("parameterize refuses what it cannot flatten") {
   SUBCASE("a closed sphere is not a disc") {
-    const HalfedgeMesh mesh = build(seam::fixtures::icosphere(1));
+    const HalfedgeMesh mesh = seam::fixtures::build_fixture(seam::fixtures::icosphere(1));
     auto r = parameterize(mesh);
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == ErrorCode::kTopologyViolation);
   }
   SUBCASE("an annulus (open cylinder, two boundary loops) is not a disc") {
-    const HalfedgeMesh mesh = build(seam::fixtures::open_cylinder());
+    const HalfedgeMesh mesh = seam::fixtures::build_fixture(seam::fixtures::open_cylinder());
     auto r = parameterize(mesh, {.method = UvMethod::kLscm});
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == ErrorCode::kTopologyViolation);
   }
   SUBCASE("options out of range") {
-    const HalfedgeMesh mesh = build(seam::fixtures::disc());
+    const HalfedgeMesh mesh = seam::fixtures::build_fixture(seam::fixtures::disc());
     CHECK(parameterize(mesh, {.arap_iterations = -1}).error().code == ErrorCode::kInvalidArgument);
     CHECK(parameterize(mesh, {.chart_gap = 2.0}).error().code == ErrorCode::kInvalidArgument);
   }
   SUBCASE("a cancelled token stops the work") {
-    const HalfedgeMesh mesh = build(seam::fixtures::disc());
+    const HalfedgeMesh mesh = seam::fixtures::build_fixture(seam::fixtures::disc());
     CancelToken token;
     token.cancel();
     auto r = parameterize(mesh, {}, token);
@@ -376,7 +370,7 @@ TEST_CASE("tiny charts: a lone triangle (no interior vertex) and an isolated ver
   Soup s;
   s.positions = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0.5, 1, 1), Vec3(7, 7, 7)};  // vertex 3 unused
   s.triangles = {{0, 1, 2}};
-  const HalfedgeMesh mesh = build(s);
+  const HalfedgeMesh mesh = seam::fixtures::build_fixture(s);
   for (UvMethod m : kAllMethods) {
     CAPTURE(std::string(uv_method_name(m)));
     auto r = parameterize(mesh, {.method = m});
@@ -444,8 +438,8 @@ TEST_CASE("the default map is overlap-free: no UV point covered twice, counted b
 }
 
 TEST_CASE("parameterize with the caller's topology: the same map, and a topology of another mesh is refused") {
-  const HalfedgeMesh mesh = build(seam::fixtures::disc(8, 24));
-  const HalfedgeMesh other = build(seam::fixtures::disc(4, 12));
+  const HalfedgeMesh mesh = seam::fixtures::build_fixture(seam::fixtures::disc(8, 24));
+  const HalfedgeMesh other = seam::fixtures::build_fixture(seam::fixtures::disc(4, 12));
   auto own = parameterize(mesh, {.method = UvMethod::kSlim});
   auto given = parameterize(mesh, compute_topology(mesh), {.method = UvMethod::kSlim});
   REQUIRE(own.ok());

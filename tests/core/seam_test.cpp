@@ -1,3 +1,5 @@
+#include "core/seam/seam.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -6,9 +8,9 @@
 #include <set>
 
 #include "core/mesh/cut.h"
-#include "core/uv/parameterize.h"
-#include "core/seam/seam.h"
 #include "core/mesh/topology.h"
+#include "core/uv/parameterize.h"
+#include "fixture_mesh.h"
 #include "fixtures.h"
 #include "seam_fixtures.h"
 #include "test_data.h"
@@ -19,13 +21,6 @@ using namespace seam::core;
 namespace fx = seam::fixtures;
 
 namespace {
-
-HalfedgeMesh build(const fx::Soup& s) {
-  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
-  REQUIRE_MESSAGE(mesh.ok(), (mesh.ok() ? "" : mesh.error().message));
-  REQUIRE(check_invariants(*mesh).ok());
-  return std::move(mesh).value();
-}
 
 std::vector<VertexId> ids(const std::vector<std::uint32_t>& raw) {
   std::vector<VertexId> out;
@@ -130,7 +125,7 @@ TEST_CASE("every method on protrusion fixtures: a tree of mesh edges that cuts a
                         {"star blob", fx::star_blob(5)},
                         {"hand", fx::hand(3)}};
   for (const auto& c : cases) {
-    const HalfedgeMesh mesh = build(c.p.soup);
+    const HalfedgeMesh mesh = fx::build_fixture(c.p.soup);
     const auto extrema = ids(c.p.tips);
     std::map<SeamMethod, double> length;
     for (SeamMethod m : kMethods) {
@@ -175,7 +170,7 @@ TEST_CASE("surfaces that are not spheres are cut to one disc per component") {
       {"sphere and torus", fx::join(fx::icosphere(2), fx::translated(fx::torus(), Vec3(10, 0, 0))), 1, 0},
   };
   for (const auto& c : cases) {
-    const HalfedgeMesh mesh = build(c.soup);
+    const HalfedgeMesh mesh = fx::build_fixture(c.soup);
     for (std::size_t k : {0, 1, 2, 3, 5}) {
       const auto extrema = fx::farthest_point_extrema(mesh, k);
       for (SeamMethod m : kMethods) {
@@ -194,7 +189,7 @@ TEST_CASE("surfaces that are not spheres are cut to one disc per component") {
 }
 
 TEST_CASE("closed sphere with fewer than two extrema still gets a disc-opening seam") {
-  const HalfedgeMesh mesh = build(fx::icosphere(2));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(2));
   for (std::size_t k : {0, 1}) {
     CAPTURE(k);
     const auto extrema = fx::farthest_point_extrema(mesh, k);
@@ -208,7 +203,7 @@ TEST_CASE("closed sphere with fewer than two extrema still gets a disc-opening s
 }
 
 TEST_CASE("two adjacent extrema on a closed surface: the seam stays cuttable and both are leaves") {
-  const HalfedgeMesh mesh = build(fx::icosphere(1));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(1));
   const HalfedgeId h = HalfedgeMesh::halfedge(EdgeId(0u));
   const VertexId extrema[] = {mesh.tail(h), mesh.head(h)};
   for (SeamMethod m : kMethods) {
@@ -226,7 +221,7 @@ TEST_CASE("when no tree can have every extremum a leaf, the seam still opens the
   // optimal refused the request ("the terminals are not all connected"); found by mesh_fuzz.
   const fx::Soup pillow{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}, {0, 2, 1}}};
   for (const fx::Soup& soup : {fx::tetrahedron(), pillow}) {
-    const HalfedgeMesh mesh = build(soup);
+    const HalfedgeMesh mesh = fx::build_fixture(soup);
     std::vector<VertexId> extrema;
     for (std::uint32_t v = 0; v < mesh.num_vertices(); ++v) extrema.push_back(VertexId(v));
     for (SeamMethod m : kMethods) {
@@ -242,7 +237,7 @@ TEST_CASE("when no tree can have every extremum a leaf, the seam still opens the
 }
 
 TEST_CASE("an open surface: the boundary is one terminal touched once") {
-  const HalfedgeMesh mesh = build(fx::disc(8, 24));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::disc(8, 24));
   const VertexId centre(0u);
   auto r = compute_seam(mesh, std::vector<VertexId>{centre}, {.method = SeamMethod::kOptimal});
   REQUIRE(r.ok());
@@ -258,7 +253,7 @@ TEST_CASE("an open surface: the boundary is one terminal touched once") {
 }
 
 TEST_CASE("bad extrema and too many terminals are typed errors") {
-  const HalfedgeMesh mesh = build(fx::icosphere(2));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(2));
   const VertexId out_of_range[] = {VertexId(static_cast<std::uint32_t>(mesh.num_vertices()))};
   auto r = compute_seam(mesh, out_of_range);
   REQUIRE(!r.ok());
@@ -267,7 +262,7 @@ TEST_CASE("bad extrema and too many terminals are typed errors") {
 
   fx::Soup with_isolated = fx::icosphere(1);
   with_isolated.positions.emplace_back(5, 5, 5);
-  const HalfedgeMesh m2 = build(with_isolated);
+  const HalfedgeMesh m2 = fx::build_fixture(with_isolated);
   const VertexId isolated[] = {VertexId(static_cast<std::uint32_t>(m2.num_vertices() - 1))};
   auto r2 = compute_seam(m2, isolated);
   REQUIRE(!r2.ok());
@@ -287,7 +282,7 @@ TEST_CASE("bad extrema and too many terminals are typed errors") {
 
 TEST_CASE("duplicate extrema are used once") {
   const auto p = fx::spiky_sphere(3);
-  const HalfedgeMesh mesh = build(p.soup);
+  const HalfedgeMesh mesh = fx::build_fixture(p.soup);
   auto extrema = ids(p.tips);
   extrema.push_back(extrema[0]);
   auto r = compute_seam(mesh, extrema);
@@ -340,7 +335,7 @@ TEST_CASE("property: random extrema sets never crash, always cut a disc, and fla
   std::mt19937 rng(12345);
   int runs = 0;
   for (const auto& mm : meshes) {
-    const HalfedgeMesh mesh = build(mm.soup);
+    const HalfedgeMesh mesh = fx::build_fixture(mm.soup);
     for (int trial = 0; trial < 60; ++trial) {
       std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(mesh.num_vertices() - 1));
       std::uniform_int_distribution<int> count(0, 7);
@@ -374,7 +369,7 @@ TEST_CASE("many small components: each is cut on its own, extrema go to their co
     const fx::Soup part = i % 3 == 0 ? fx::torus(8, 6, 0.4, 0.15) : i % 3 == 1 ? fx::disc(2, 8) : fx::icosphere(1);
     soup = fx::join(soup, fx::translated(part, Vec3(3.0 * i, 0, 0)));
   }
-  const HalfedgeMesh mesh = build(soup);
+  const HalfedgeMesh mesh = fx::build_fixture(soup);
   const Topology topo = compute_topology(mesh);
   REQUIRE(topo.components.size() == 40);
   // Two extrema on every fourth component (first vertices of that component).
@@ -406,9 +401,9 @@ TEST_CASE("the default claims `optimal` only where it equals the exact optimum (
     HalfedgeMesh mesh;
   };
   std::vector<Mesh> meshes;
-  meshes.push_back({"icosphere", build(fx::icosphere(2))});
-  meshes.push_back({"torus", build(fx::torus(12, 8))});
-  meshes.push_back({"cylinder", build(fx::open_cylinder(10, 4))});
+  meshes.push_back({"icosphere", fx::build_fixture(fx::icosphere(2))});
+  meshes.push_back({"torus", fx::build_fixture(fx::torus(12, 8))});
+  meshes.push_back({"cylinder", fx::build_fixture(fx::open_cylinder(10, 4))});
   meshes.push_back({"hand", seam::test_data::load_cgal_halfedge("hand")});
   std::mt19937 rng(2016);
   int claimed = 0;
@@ -453,7 +448,7 @@ TEST_CASE("the default claims `optimal` only where it equals the exact optimum (
 }
 
 TEST_CASE("edge_costs: the same search code minimises the weighted length, length stays Euclidean") {
-  const HalfedgeMesh mesh = build(fx::icosphere(3));
+  const HalfedgeMesh mesh = fx::build_fixture(fx::icosphere(3));
   const std::vector<VertexId> extrema = {VertexId(0u), VertexId(5u), VertexId(9u), VertexId(11u)};
   auto plain = compute_seam(mesh, extrema);
   REQUIRE(plain.ok());

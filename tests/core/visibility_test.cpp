@@ -1,9 +1,11 @@
 // Visibility by ray casting (core/visibility): what a camera sees, what the mesh hides from
 // it, how open each face is, and the edge multipliers a hidden seam uses.
+#include "core/visibility/visibility.h"
+
 #include <doctest/doctest.h>
 
 #include "core/mesh/halfedge_mesh.h"
-#include "core/visibility/visibility.h"
+#include "fixture_mesh.h"
 #include "fixtures.h"
 
 namespace seam_visibility_test {
@@ -12,12 +14,6 @@ using namespace seam::core;
 namespace fixtures = seam::fixtures;
 
 namespace {
-
-HalfedgeMesh build(const fixtures::Soup& s) {
-  auto mesh = build_halfedge_mesh(s.positions, s.triangles);
-  REQUIRE(mesh.ok());
-  return std::move(mesh).value();
-}
 
 Vec3 normal(const HalfedgeMesh& m, FaceId f) {
   const auto c = m.face_vertices(f);
@@ -32,7 +28,7 @@ Vec3 centroid(const HalfedgeMesh& m, FaceId f) {
 }  // namespace
 
 TEST_CASE("a camera looking down sees the top faces, at the cosine of their tilt, and nothing else") {
-  const HalfedgeMesh cube = build(fixtures::voxel_surface({{0, 0, 0}}));
+  const HalfedgeMesh cube = fixtures::build_fixture(fixtures::voxel_surface({{0, 0, 0}}));
   auto vis = compute_visibility(cube, VisibilityOptions{{Vec3(0, 0, -2)}});
   REQUIRE(vis.ok());
   for (std::uint32_t f = 0; f < cube.num_faces(); ++f) {
@@ -51,7 +47,7 @@ TEST_CASE("a camera looking down sees the top faces, at the cosine of their tilt
 
 TEST_CASE("what the mesh hides is not seen, and a narrow gap is not open") {
   // Two unit cubes one above the other with a gap of one unit between them.
-  const HalfedgeMesh two = build(fixtures::voxel_surface({{0, 0, 0}, {0, 0, 2}}));
+  const HalfedgeMesh two = fixtures::build_fixture(fixtures::voxel_surface({{0, 0, 0}, {0, 0, 2}}));
   VisibilityOptions options{{Vec3(0, 0, -1)}};
   options.ambient_occlusion = true;
   options.ao_rays = 64;
@@ -84,7 +80,7 @@ TEST_CASE("what the mesh hides is not seen, and a narrow gap is not open") {
 }
 
 TEST_CASE("hiding multipliers: seen edges cost 1 + strength, unseen 1, silhouettes count as seen") {
-  const HalfedgeMesh cube = build(fixtures::voxel_surface({{0, 0, 0}}));
+  const HalfedgeMesh cube = fixtures::build_fixture(fixtures::voxel_surface({{0, 0, 0}}));
   auto vis = compute_visibility(cube, VisibilityOptions{{Vec3(0, 0, -1)}});
   REQUIRE(vis.ok());
   const std::vector<double> m = hiding_multipliers(cube, *vis, 4.0);
@@ -97,7 +93,7 @@ TEST_CASE("hiding multipliers: seen edges cost 1 + strength, unseen 1, silhouett
 }
 
 TEST_CASE("bad views are refused") {
-  const HalfedgeMesh cube = build(fixtures::voxel_surface({{0, 0, 0}}));
+  const HalfedgeMesh cube = fixtures::build_fixture(fixtures::voxel_surface({{0, 0, 0}}));
   CHECK(compute_visibility(cube, VisibilityOptions{{Vec3(0, 0, 0)}}).error().code == ErrorCode::kInvalidArgument);
   CHECK(compute_visibility(cube, VisibilityOptions{{Vec3(0, std::nan(""), 1)}}).error().code == ErrorCode::kInvalidArgument);
   VisibilityOptions many;
