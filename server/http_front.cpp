@@ -113,6 +113,11 @@ class Connection final : public httplib::Stream {
         head_len_ = (scanned >= 3 ? scanned - 3 : 0) + *end;
         return HeadRead::kComplete;
       }
+      if (has_bare_lf(view, scanned)) {
+        failure_ = refusal(ApiErrorCode::kMalformedRequest,
+                           "malformed HTTP request: the head's lines must end with CRLF, not a bare LF");
+        return HeadRead::kRefused;
+      }
       scanned = view.size();
       if (view.size() > config_.head.max_head_bytes) {
         failure_ = refusal(ApiErrorCode::kHeadersTooLarge,
@@ -137,11 +142,17 @@ class Connection final : public httplib::Stream {
     head_pos_ = 0;
     body_served_ = 0;
     chunked_ = head.chunked;
+    framing_ = ChunkedFraming();
     declared_ = head.content_length.value_or(0);
     body_deadline_ = request_start_ + config_.request_timeout +
                      std::chrono::milliseconds(declared_ * 1000 / std::max<std::size_t>(1, config_.min_body_rate));
     return reserve(chunked_ ? kRecvBlock : declared_);
   }
+
+  // Whether the library read the request's whole body (a chunked one up to its last CRLF).
+  // When it did not (it refused the framing, or stopped early), where the next request starts
+  // is unknown, and the connection must close.
+  bool body_complete() const { return chunked_ ? framing_.done() : body_served_ == declared_; }
 
   void end_request() {
     budget_.give_back(reserved_);
@@ -207,8 +218,18 @@ class Connection final : public httplib::Stream {
       return static_cast<ssize_t>(n);
     }
     if (failure_) return -1;
+    if (body_complete()) return 0;  // never a byte of the next request as this one's body
     if (available() == 0 && !fill(body_deadline(), /*head=*/false)) return -1;
-    const auto n = std::min(size, available());
+    auto n = std::min(size, available());
+    if (chunked_) {
+      n = framing_.feed({in_.data() + in_pos_, n});
+      if (framing_.failed()) {
+        failure_ = refusal(ApiErrorCode::kMalformedRequest, framing_.error());
+        return -1;
+      }
+    } else {
+      n = static_cast<std::size_t>(std::min<std::uint64_t>(n, declared_ - body_served_));
+    }
     if (body_served_ + n > config_.head.max_body_bytes) {
       failure_ = refusal(ApiErrorCode::kPayloadTooLarge,
                          "the request body is larger than the limit of " + std::to_string(config_.head.max_body_bytes) +
@@ -349,6 +370,7 @@ class Connection final : public httplib::Stream {
   Clock::time_point request_start_{};
   Clock::time_point body_deadline_{};
   bool chunked_ = false;
+  ChunkedFraming framing_;
   std::uint64_t declared_ = 0;
   std::uint64_t body_served_ = 0;
   std::uint64_t reserved_ = 0;
@@ -404,6 +426,11 @@ std::optional<Refusal> FrontServer::body_failure(const httplib::Request& req) co
   const auto* conn = connection_of(req);
   if (conn == nullptr) return std::nullopt;
   return conn->failure();
+}
+
+bool FrontServer::body_incomplete(const httplib::Request& req) const {
+  const auto* conn = connection_of(req);
+  return conn != nullptr && !conn->body_complete();
 }
 
 void FrontServer::refuse(Connection& conn, const RequestHead* head, Refusal r) {
@@ -470,7 +497,10 @@ void FrontServer::serve_connection(Connection& conn) {
       requests_.erase(current);
     }
     conn.end_request();
-    if (!answered || close_connection || connection_closed || conn.failure() || conn.abandoned()) return;
+    if (!answered || close_connection || connection_closed || conn.failure() || conn.abandoned() ||
+        !conn.body_complete()) {
+      return;
+    }
   }
 }
 

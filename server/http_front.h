@@ -102,6 +102,11 @@ class FrontServer : public httplib::Server {
   /// the limit, 408 too slow, 503 over the bytes-in-flight budget), or nullopt.
   std::optional<Refusal> body_failure(const httplib::Request& req) const;
 
+  /// Inside the library's error handler: true when the library has not read all of `req`'s
+  /// body (it refused the chunked framing, or stopped early). The connection then closes after
+  /// the answer, since where the next request would start is unknown; the answer should say so.
+  bool body_incomplete(const httplib::Request& req) const;
+
   const ByteBudget& budget() const { return budget_; }
   const FrontConfig& front_config() const { return config_; }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 
 namespace seam::server {
@@ -176,6 +177,13 @@ std::optional<std::size_t> find_head_end(std::string_view bytes) {
   return end + 4;
 }
 
+bool has_bare_lf(std::string_view bytes, std::size_t from) {
+  for (auto at = bytes.find('\n', from); at != std::string_view::npos; at = bytes.find('\n', at + 1)) {
+    if (at == 0 || bytes[at - 1] != '\r') return true;
+  }
+  return false;
+}
+
 api::ApiResult<RequestHead> parse_request_head(std::string_view head, const HeadLimits& limits) {
   if (head.size() > limits.max_head_bytes) {
     return too_large(std::to_string(head.size()) + " bytes", limits);
@@ -224,8 +232,80 @@ api::ApiResult<RequestHead> parse_request_head(std::string_view head, const Head
     if (!is_field_value(value)) return malformed("field '" + std::string(name.substr(0, 40)) + "' holds control bytes");
     out.fields.emplace_back(std::string(name), std::string(value));
   }
+  const auto hosts =
+      std::count_if(out.fields.begin(), out.fields.end(), [](const auto& f) { return iequals(f.first, "Host"); });
+  if (hosts > 1 || (hosts == 0 && out.minor_version == 1)) {
+    return malformed(hosts > 1 ? "more than one Host field" : "an HTTP/1.1 request needs a Host field");
+  }
   if (auto framing = check_framing(out, limits); !framing.ok()) return framing.take_error();
   return out;
+}
+
+bool ChunkedFraming::fail(std::string why) {
+  state_ = State::kFailed;
+  error_ = "malformed chunked body: " + std::move(why);
+  return false;
+}
+
+bool ChunkedFraming::step(char c) {
+  const auto u = static_cast<unsigned char>(c);
+  const bool control = (u < 0x20 && u != '\t') || u == 0x7f;
+  switch (state_) {
+    case State::kSize: {
+      const int digit = std::isxdigit(u) ? (std::isdigit(u) ? u - '0' : std::tolower(u) - 'a' + 10) : -1;
+      if (digit >= 0) {
+        if (digits_ == 15) return fail("a chunk size of more than 15 hex digits");
+        size_ = size_ * 16 + static_cast<std::uint64_t>(digit);
+        ++digits_;
+        return true;
+      }
+      if (digits_ == 0) return fail("a chunk size line must start with the size in hex digits");
+      if (c == '\r') return state_ = State::kSizeLf, true;
+      if (c == '\n') return fail("a chunk size line must end with CRLF");
+      if (c == ';' || c == ' ' || c == '\t') return state_ = State::kExtension, true;
+      return fail("a chunk size must be hex digits, optionally followed by ';' and an extension");
+    }
+    case State::kExtension:
+      if (c == '\r') return state_ = State::kSizeLf, true;
+      return control ? fail("a control byte or bare LF in a chunk extension") : true;
+    case State::kSizeLf:
+      if (c != '\n') return fail("a chunk size line must end with CRLF");
+      state_ = size_ == 0 ? State::kEndCr : State::kData;
+      return true;
+    case State::kDataCr:
+      return c == '\r' ? (state_ = State::kDataLf, true) : fail("a chunk's data must end with CRLF");
+    case State::kDataLf:
+      if (c != '\n') return fail("a chunk's data must end with CRLF");
+      state_ = State::kSize;
+      digits_ = 0;
+      return true;
+    case State::kEndCr:
+      return c == '\r' ? (state_ = State::kEndLf, true)
+                       : fail("trailer fields after the last chunk are not accepted (send them as header fields)");
+    case State::kEndLf:
+      return c == '\n' ? (state_ = State::kDone, true) : fail("the last chunk must be followed by CRLF");
+    case State::kData:
+    case State::kDone:
+    case State::kFailed:
+      break;
+  }
+  return false;  // not reached: feed() handles data, and stops at the end or a failure
+}
+
+std::size_t ChunkedFraming::feed(std::string_view bytes) {
+  std::size_t used = 0;
+  while (used < bytes.size() && state_ != State::kDone && state_ != State::kFailed) {
+    if (state_ == State::kData) {
+      const auto skip = static_cast<std::size_t>(std::min<std::uint64_t>(size_, bytes.size() - used));
+      used += skip;
+      size_ -= skip;
+      if (size_ == 0) state_ = State::kDataCr;
+      continue;
+    }
+    if (!step(bytes[used])) break;
+    ++used;
+  }
+  return used;
 }
 
 std::string sanitized_head(const RequestHead& head) {

@@ -48,12 +48,18 @@ struct RequestHead {
 /// the head. O(n).
 std::optional<std::size_t> find_head_end(std::string_view bytes);
 
+/// True when `bytes` hold an LF at or after offset `from` that no CR precedes: a head that can
+/// never end with the blank line find_head_end looks for, refused at once (400) rather than
+/// left to time out. O(bytes.size() - from), so a head trickled in is scanned once.
+bool has_bare_lf(std::string_view bytes, std::size_t from = 0);
+
 /// Parses a complete head (as delimited by find_head_end) strictly:
 /// - request line `METHOD SP target SP HTTP/1.0|HTTP/1.1`, one space each, no control bytes;
 /// - every field `name: value` with a token name and nothing between name and colon (a space
 ///   there is request smuggling, RFC 9112 §5.1), no obsolete line folding, CRLF line ends;
 /// - Content-Length digits only, repeated values equal; Transfer-Encoding only `chunked`,
-///   never together with Content-Length (§6.3).
+///   never together with Content-Length (§6.3);
+/// - exactly one Host field in an HTTP/1.1 request, at most one in HTTP/1.0 (§3.2).
 /// Errors: kHeadersTooLarge (431) above the limits; kPayloadTooLarge (413) when the declared
 /// length exceeds max_body_bytes; kMalformedRequest (400) for every syntax rule above;
 /// kMethodNotAllowed (405) for TRACE and CONNECT, which the service never routes;
@@ -61,6 +67,37 @@ std::optional<std::size_t> find_head_end(std::string_view bytes);
 /// not inflate bodies: a 486 KB gzip body can claim 500 MB).
 /// Complexity: O(head bytes).
 api::ApiResult<RequestHead> parse_request_head(std::string_view head, const HeadLimits& limits);
+
+/// A chunked body (RFC 9112 §7.1) checked byte by byte on its way to cpp-httplib, which decodes
+/// it itself but reads past framing errors (0.11.4 takes "3\r\nabcXX0\r\n\r\n" as the body
+/// "abc") and keeps the connection open after the ones it does refuse, so that the rest of a
+/// broken body would be read as the next request (request smuggling). The front serves the
+/// library no byte this refuses and none past the message's end, and closes a connection whose
+/// body did not end here. Accepts: hex chunk sizes (at most 15 digits), chunk extensions
+/// (`;name[=value]`: visible bytes, spaces and tabs), CRLF after every size line and every
+/// chunk's data, and the final CRLF. Trailer fields are refused with a clear message (the
+/// library would refuse them with a vague one).
+class ChunkedFraming {
+ public:
+  /// Consumes the prefix of `bytes` that belongs to the message: all of it, or fewer when the
+  /// message ended (done()) or a byte broke the framing (failed(); the count excludes it).
+  /// O(bytes); chunk data is skipped, not scanned.
+  std::size_t feed(std::string_view bytes);
+  bool done() const { return state_ == State::kDone; }
+  bool failed() const { return state_ == State::kFailed; }
+  /// What broke the framing (empty unless failed()), e.g. "a chunk's data must end with CRLF".
+  const std::string& error() const { return error_; }
+
+ private:
+  enum class State { kSize, kExtension, kSizeLf, kData, kDataCr, kDataLf, kEndCr, kEndLf, kDone, kFailed };
+  bool fail(std::string why);
+  bool step(char c);  // one byte of a size line or a CRLF; false when it failed
+
+  State state_ = State::kSize;
+  std::uint64_t size_ = 0;  // of the chunk whose size line is read, then its data left
+  int digits_ = 0;
+  std::string error_;
+};
 
 /// The head handed to cpp-httplib: the request line and fields of `head` minus the ones the
 /// front has dealt with or refuses to honour (Range and If-Range: a range request never

@@ -500,6 +500,7 @@ struct Server::Impl {
         send_error(req, res, failure->error);
         return httplib::Server::HandlerResponse::Handled;
       }
+      if (http.body_incomplete(req)) res.set_header("Connection", "close");
       const ApiError error = library_status_error(res.status, req.path, config.max_body_bytes);
       const int status = res.status;
       send_error(req, res, error);

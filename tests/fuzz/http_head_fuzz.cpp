@@ -18,7 +18,12 @@
 //   and sanitizing that again gives the same bytes. The re-parse allows one byte more per
 //   field line and per field: `name:value` is re-spelt `name: value`, so a head at the limits
 //   may grow by that much (the front hands it to the library, which does not apply
-//   max_head_bytes; see docs/fuzzing.md for the library's own line limit).
+//   max_head_bytes; see docs/fuzzing.md for the library's own line limit);
+// - an accepted HTTP/1.1 head has exactly one Host field, an HTTP/1.0 one at most one;
+// - a head with a bare LF before its end is refused whole (has_bare_lf agrees with the parser);
+// - after a chunked head, ChunkedFraming takes the same bytes to the same verdict whether fed
+//   at once or byte by byte, never takes a byte past the message's end, and a message it
+//   calls done ends with "0" (and extensions) CRLF CRLF; the next head starts after it.
 #include <algorithm>
 #include <cctype>
 #include <cstddef>
@@ -32,10 +37,12 @@
 namespace {
 
 using seam::api::ApiErrorCode;
-using seam::server::HeadLimits;
-using seam::server::RequestHead;
+using seam::server::ChunkedFraming;
 using seam::server::find_head_end;
+using seam::server::has_bare_lf;
+using seam::server::HeadLimits;
 using seam::server::parse_request_head;
+using seam::server::RequestHead;
 using seam::server::sanitized_head;
 
 void check(bool property) {
@@ -80,6 +87,10 @@ void check_accepted(std::string_view bytes, const RequestHead& head, const HeadL
   check(!head.chunked || head.minor_version == 1);
   check(!head.target.empty());  // the path (http_head.h defines it) is compared on re-parsing
   check(head.has_body() == (head.chunked || head.content_length.value_or(0) > 0));
+  const auto hosts =
+      std::count_if(head.fields.begin(), head.fields.end(), [](const auto& f) { return iequals(f.first, "Host"); });
+  check(head.minor_version == 1 ? hosts == 1 : hosts <= 1);
+  check(!has_bare_lf(bytes));
   for (const auto& [name, value] : head.fields) {
     check(is_token(name));
     check(name.size() + 1 + value.size() <= limits.max_field_bytes);
@@ -127,6 +138,27 @@ std::optional<RequestHead> check_head(std::string_view bytes, const HeadLimits& 
   return std::move(parsed).value();
 }
 
+// The chunked body at the front of `stream`: its length when the checker calls it done,
+// nullopt when it failed or wants more. Fed whole and byte by byte, with the same verdict.
+std::optional<std::size_t> check_chunked(std::string_view stream) {
+  ChunkedFraming whole;
+  const auto used = whole.feed(stream);
+  check(used <= stream.size());
+  check(!(whole.done() && whole.failed()));
+  check(whole.failed() == !whole.error().empty());
+  check(whole.done() || whole.failed() || used == stream.size());
+  ChunkedFraming bytewise;
+  std::size_t fed = 0;
+  while (fed < stream.size() && !bytewise.done() && !bytewise.failed()) fed += bytewise.feed(stream.substr(fed, 1));
+  check(fed == used && bytewise.done() == whole.done() && bytewise.failed() == whole.failed());
+  check(bytewise.error() == whole.error());
+  if (!whole.done()) return std::nullopt;
+  const auto message = stream.substr(0, used);
+  check(used >= 5 && message.substr(used - 4) == "\r\n\r\n");
+  check(whole.feed(stream.substr(used)) == 0);  // nothing after the end
+  return used;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -152,7 +184,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     stream.remove_prefix(*end);
     check_head(head_bytes, tight);
     const auto head = check_head(head_bytes, production);
-    if (!head || head->chunked) return 0;  // the front closes; chunks are the library's to read
+    if (!head) return 0;  // the front answers and closes
+    if (head->chunked) {
+      const auto body = check_chunked(stream);
+      if (!body) return 0;  // refused or incomplete: the front closes
+      stream.remove_prefix(*body);
+      continue;
+    }
     const auto body = static_cast<std::size_t>(std::min<std::uint64_t>(head->content_length.value_or(0), stream.size()));
     stream.remove_prefix(body);
   }

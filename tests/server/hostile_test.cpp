@@ -285,13 +285,15 @@ TEST_CASE("hostile: pipelining, strict header syntax, OPTIONS, TRACE and form bo
     CHECK(statuses_of(raw) == std::vector<int>{200, 404, 200});
   }
   SUBCASE("syntax that smuggles or folds is a 400") {
-    for (const char* bad : {"GET /healthz HTTP/1.1\r\nContent-Length : 5\r\n\r\nhello",
-                            "GET /healthz HTTP/1.1\r\nX-A: b\r\n folded\r\n\r\n",
-                            "POST /seam HTTP/1.1\r\nContent-Length: 4\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n",
-                            "POST /seam HTTP/1.1\r\nTransfer-Encoding: gzip, chunked\r\n\r\n",
-                            "POST /seam HTTP/1.1\r\nContent-Length: 4\r\nContent-Length: 5\r\n\r\nabcd",
-                            "GET  /healthz HTTP/1.1\r\n\r\n", "GET /healthz HTTP/2.0\r\n\r\n",
-                            "GET /healthz HTTP/1.1\nHost: t\r\n\r\n"}) {
+    for (const char* bad :
+         {"GET /healthz HTTP/1.1\r\nHost: t\r\nContent-Length : 5\r\n\r\nhello",
+          "GET /healthz HTTP/1.1\r\nHost: t\r\nX-A: b\r\n folded\r\n\r\n",
+          "POST /seam HTTP/1.1\r\nHost: t\r\nContent-Length: 4\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n",
+          "POST /seam HTTP/1.1\r\nHost: t\r\nTransfer-Encoding: gzip, chunked\r\n\r\n",
+          "POST /seam HTTP/1.1\r\nHost: t\r\nContent-Length: 4\r\nContent-Length: 5\r\n\r\nabcd",
+          "GET  /healthz HTTP/1.1\r\nHost: t\r\n\r\n", "GET /healthz HTTP/2.0\r\nHost: t\r\n\r\n",
+          "GET /healthz HTTP/1.1\nHost: t\r\n\r\n", "GET /healthz HTTP/1.1\r\n\r\n",
+          "GET /healthz HTTP/1.1\r\nHost: t\r\nHost: u\r\n\r\n"}) {
       CAPTURE(bad);
       CHECK(status_of(exchange(seamd.port(), bad)) == 400);
     }
@@ -313,6 +315,51 @@ TEST_CASE("hostile: pipelining, strict header syntax, OPTIONS, TRACE and form bo
     const std::string text = "POST /se%61m HTTP/1.1\r\nHost: t\r\nContent-Type: text/plain\r\n"
                              "Content-Length: 3\r\nConnection: close\r\n\r\nabc";
     CHECK(status_of(exchange(seamd.port(), text)) == 415);
+  }
+  check_alive(seamd);
+}
+
+TEST_CASE("hostile: a broken chunked body closes its connection, so its rest is never read as a request") {
+  Seamd seamd(limited_args());
+  const std::string head =
+      "POST /seam HTTP/1.1\r\nHost: t\r\nContent-Type: model/gltf-binary\r\n"
+      "Transfer-Encoding: chunked\r\n\r\n";
+  const std::string smuggled = "GET /version HTTP/1.1\r\nHost: t\r\n\r\n";
+  struct Case {
+    const char* what;
+    std::string body;
+  };
+  for (const auto& c :
+       std::vector<Case>{{"a size that is not hex (the audit's desync)", "zz\r\n"},
+                         {"no CRLF after a chunk's data (cpp-httplib took the body 'abc')", "3\r\nabcXX0\r\n\r\n"},
+                         {"a trailer field", "3\r\nabc\r\n0\r\nX-T: 1\r\n\r\n"},
+                         {"a bare LF after the size", "3\nabc\r\n0\r\n\r\n"}}) {
+    CAPTURE(c.what);
+    const auto raw = exchange(seamd.port(), head + c.body + smuggled, 10s);
+    CHECK(statuses_of(raw) == std::vector<int>{400});  // one answer: the GET was not served
+    CHECK(error_code(raw) == "malformed_request");
+    CHECK(header_of(raw, "Connection") == "close");
+    CHECK(body_of(raw).find("malformed chunked body") != std::string::npos);
+  }
+  SUBCASE("a well-framed chunked body with an extension keeps the connection for the next request") {
+    const auto& glb = sample_glb();
+    std::string body;
+    for (std::size_t at = 0; at < glb.size(); at += 4000) {
+      const auto piece = glb.substr(at, 4000);
+      char size[32];
+      std::snprintf(size, sizeof size, "%zx;ext=1\r\n", piece.size());
+      body += size + piece + "\r\n";
+    }
+    body += "0\r\n\r\n";
+    const auto raw =
+        exchange(seamd.port(), head + body + "GET /healthz HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n");
+    CHECK(statuses_of(raw) == std::vector<int>{200, 200});
+  }
+  SUBCASE("a head with bare LF line ends is a 400 at once, not a 408 at the timeout") {
+    const auto start = std::chrono::steady_clock::now();
+    const auto raw = exchange(seamd.port(), "GET /healthz HTTP/1.1\nHost: t\n\n", 10s);
+    CHECK(status_of(raw) == 400);
+    CHECK(std::chrono::steady_clock::now() - start < 5s);
   }
   check_alive(seamd);
 }

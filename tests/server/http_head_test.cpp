@@ -6,7 +6,9 @@
 namespace seam_http_head_test {
 
 using seam::api::ApiErrorCode;
+using seam::server::ChunkedFraming;
 using seam::server::find_head_end;
+using seam::server::has_bare_lf;
 using seam::server::HeadLimits;
 using seam::server::parse_request_head;
 using seam::server::sanitized_head;
@@ -50,7 +52,7 @@ TEST_CASE("http_head: a valid head, its framing and its fields") {
   CHECK(head->field("x-request-id") == std::optional<std::string_view>("abc"));
   CHECK_FALSE(head->field("Range").has_value());
 
-  auto chunked = parse_request_head("POST /seam HTTP/1.1\r\nTransfer-Encoding: Chunked\r\n\r\n", {});
+  auto chunked = parse_request_head("POST /seam HTTP/1.1\r\nHost: a\r\nTransfer-Encoding: Chunked\r\n\r\n", {});
   REQUIRE(chunked.ok());
   CHECK(chunked->chunked);
   CHECK(chunked->has_body());
@@ -62,22 +64,27 @@ TEST_CASE("http_head: a valid head, its framing and its fields") {
 
 TEST_CASE("http_head: request smuggling and malformed syntax are 400") {
   for (const char* bad : {
-           "GET /x HTTP/1.1\r\nContent-Length : 5\r\n\r\n",              // space before the colon
-           "GET /x HTTP/1.1\r\nX-A: b\r\n c\r\n\r\n",                    // obsolete line folding
-           "POST /x HTTP/1.1\r\nContent-Length: 4\r\nTransfer-Encoding: chunked\r\n\r\n",
-           "POST /x HTTP/1.1\r\nTransfer-Encoding: gzip\r\n\r\n",
-           "POST /x HTTP/1.1\r\nTransfer-Encoding: chunked\r\nTransfer-Encoding: chunked\r\n\r\n",
+           "GET /x HTTP/1.1\r\nHost: a\r\nContent-Length : 5\r\n\r\n",  // space before the colon
+           "GET /x HTTP/1.1\r\nHost: a\r\nX-A: b\r\n c\r\n\r\n",        // obsolete line folding
+           "POST /x HTTP/1.1\r\nHost: a\r\nContent-Length: 4\r\nTransfer-Encoding: chunked\r\n\r\n",
+           "POST /x HTTP/1.1\r\nHost: a\r\nTransfer-Encoding: gzip\r\n\r\n",
+           "POST /x HTTP/1.1\r\nHost: a\r\nTransfer-Encoding: chunked\r\nTransfer-Encoding: chunked\r\n\r\n",
            "POST /x HTTP/1.0\r\nTransfer-Encoding: chunked\r\n\r\n",
-           "POST /x HTTP/1.1\r\nContent-Length: 4\r\nContent-Length: 5\r\n\r\n",
-           "POST /x HTTP/1.1\r\nContent-Length: -4\r\n\r\n",
-           "POST /x HTTP/1.1\r\nContent-Length: 0x10\r\n\r\n",
-           "POST /x HTTP/1.1\r\nContent-Length: 99999999999999999999\r\n\r\n",
-           "GET /x HTTP/1.1\r\nNo colon here\r\n\r\n",
-           "GET /x HTTP/1.1\r\nX-A: b\rc\r\n\r\n",                        // bare CR
-           "GET /x HTTP/1.1\r\nX-A: b\x01\r\n\r\n",                       // control byte
-           "GET /x HTTP/1.1\r\n: empty name\r\n\r\n",
-           "GET  /x HTTP/1.1\r\n\r\n", "GET /x  HTTP/1.1\r\n\r\n", "GET /x HTTP/2\r\n\r\n", "GET /x\r\n\r\n",
-           "G(T /x HTTP/1.1\r\n\r\n", "GET /a\x7f HTTP/1.1\r\n\r\n", "GET /x HTTP/1.1\r\n\r",
+           "POST /x HTTP/1.1\r\nHost: a\r\nContent-Length: 4\r\nContent-Length: 5\r\n\r\n",
+           "POST /x HTTP/1.1\r\nHost: a\r\nContent-Length: -4\r\n\r\n",
+           "POST /x HTTP/1.1\r\nHost: a\r\nContent-Length: 0x10\r\n\r\n",
+           "POST /x HTTP/1.1\r\nHost: a\r\nContent-Length: 99999999999999999999\r\n\r\n",
+           "GET /x HTTP/1.1\r\nHost: a\r\nNo colon here\r\n\r\n",
+           "GET /x HTTP/1.1\r\nHost: a\r\nX-A: b\rc\r\n\r\n",   // bare CR
+           "GET /x HTTP/1.1\r\nHost: a\r\nX-A: b\x01\r\n\r\n",  // control byte
+           "GET /x HTTP/1.1\r\nHost: a\r\n: empty name\r\n\r\n",
+           "GET  /x HTTP/1.1\r\nHost: a\r\n\r\n",
+           "GET /x  HTTP/1.1\r\nHost: a\r\n\r\n",
+           "GET /x HTTP/2\r\n\r\n",
+           "GET /x\r\n\r\n",
+           "G(T /x HTTP/1.1\r\nHost: a\r\n\r\n",
+           "GET /a\x7f HTTP/1.1\r\nHost: a\r\n\r\n",
+           "GET /x HTTP/1.1\r\nHost: a\r\n\r",
        }) {
     CAPTURE(bad);
     CHECK(code_of(bad) == ApiErrorCode::kMalformedRequest);
@@ -86,19 +93,24 @@ TEST_CASE("http_head: request smuggling and malformed syntax are 400") {
 
 TEST_CASE("http_head: limits on fields, bytes and the declared length") {
   const HeadLimits limits{.max_head_bytes = 4096, .max_fields = 10, .max_field_bytes = 200, .max_body_bytes = 1000};
-  CHECK(parse_request_head("GET / HTTP/1.1\r\n" + fields(10) + "\r\n", limits).ok());
-  CHECK(code_of("GET / HTTP/1.1\r\n" + fields(11) + "\r\n", limits) == ApiErrorCode::kHeadersTooLarge);
-  CHECK(code_of("GET / HTTP/1.1\r\nX: " + std::string(300, 'a') + "\r\n\r\n", limits) == ApiErrorCode::kHeadersTooLarge);
-  CHECK(code_of("GET / HTTP/1.1\r\n" + std::string(5000, 'a') + "\r\n\r\n", limits) == ApiErrorCode::kHeadersTooLarge);
-  CHECK(parse_request_head("POST / HTTP/1.1\r\nContent-Length: 1000\r\n\r\n", limits).ok());
-  CHECK(code_of("POST / HTTP/1.1\r\nContent-Length: 1001\r\n\r\n", limits) == ApiErrorCode::kPayloadTooLarge);
+  CHECK(parse_request_head("GET / HTTP/1.1\r\nHost: a\r\n" + fields(9) + "\r\n", limits).ok());
+  CHECK(code_of("GET / HTTP/1.1\r\nHost: a\r\n" + fields(10) + "\r\n", limits) == ApiErrorCode::kHeadersTooLarge);
+  CHECK(code_of("GET / HTTP/1.1\r\nHost: a\r\nX: " + std::string(300, 'a') + "\r\n\r\n", limits) ==
+        ApiErrorCode::kHeadersTooLarge);
+  CHECK(code_of("GET / HTTP/1.1\r\nHost: a\r\n" + std::string(5000, 'a') + "\r\n\r\n", limits) ==
+        ApiErrorCode::kHeadersTooLarge);
+  CHECK(parse_request_head("POST / HTTP/1.1\r\nHost: a\r\nContent-Length: 1000\r\n\r\n", limits).ok());
+  CHECK(code_of("POST / HTTP/1.1\r\nHost: a\r\nContent-Length: 1001\r\n\r\n", limits) ==
+        ApiErrorCode::kPayloadTooLarge);
 }
 
 TEST_CASE("http_head: TRACE and CONNECT are 405, Content-Encoding a 415") {
-  CHECK(code_of("TRACE / HTTP/1.1\r\n\r\n") == ApiErrorCode::kMethodNotAllowed);
-  CHECK(code_of("CONNECT a:1 HTTP/1.1\r\n\r\n") == ApiErrorCode::kMethodNotAllowed);
-  CHECK(code_of("POST / HTTP/1.1\r\nContent-Length: 3\r\nContent-Encoding: gzip\r\n\r\n") == ApiErrorCode::kUnsupportedMediaType);
-  CHECK(parse_request_head("POST / HTTP/1.1\r\nContent-Length: 3\r\nContent-Encoding: identity\r\n\r\n", {}).ok());
+  CHECK(code_of("TRACE / HTTP/1.1\r\nHost: a\r\n\r\n") == ApiErrorCode::kMethodNotAllowed);
+  CHECK(code_of("CONNECT a:1 HTTP/1.1\r\nHost: a\r\n\r\n") == ApiErrorCode::kMethodNotAllowed);
+  CHECK(code_of("POST / HTTP/1.1\r\nHost: a\r\nContent-Length: 3\r\nContent-Encoding: gzip\r\n\r\n") ==
+        ApiErrorCode::kUnsupportedMediaType);
+  CHECK(parse_request_head("POST / HTTP/1.1\r\nHost: a\r\nContent-Length: 3\r\nContent-Encoding: identity\r\n\r\n", {})
+            .ok());
 }
 
 TEST_CASE("http_head: the sanitized head drops Range and parses to the same request") {
@@ -119,7 +131,7 @@ TEST_CASE("http_head: the path is the one the library routes on") {
            {"/seam?x=1", "/seam"}, {"/se%61m", "/seam"}, {"/seam#frag", "/seam"}, {"/a%2fb?c", "/a/b"},
            {"/bad%zz", "/bad%zz"}, {"/end%4", "/end%4"}}) {
     CAPTURE(target);
-    auto head = parse_request_head("GET " + target + " HTTP/1.1\r\n\r\n", {});
+    auto head = parse_request_head("GET " + target + " HTTP/1.1\r\nHost: a\r\n\r\n", {});
     REQUIRE(head.ok());
     CHECK(head->path == path);
     CHECK(head->target == target);
@@ -128,13 +140,100 @@ TEST_CASE("http_head: the path is the one the library routes on") {
 
 TEST_CASE("http_head: a field line is counted as the library reads it, and the target starts with '/'") {
   // sanitized "X: value\r\n" must fit cpp-httplib's 8192-byte line buffer (http_head_fuzz).
-  CHECK(parse_request_head("GET / HTTP/1.1\r\nX: " + std::string(8187, 'a') + "\r\n\r\n", {}).ok());
-  CHECK(code_of("GET / HTTP/1.1\r\nX: " + std::string(8188, 'a') + "\r\n\r\n") == ApiErrorCode::kHeadersTooLarge);
-  CHECK(code_of("GET / HTTP/1.1\r\nX:" + std::string(8188, 'a') + "\r\n\r\n") == ApiErrorCode::kHeadersTooLarge);
-  CHECK(code_of("GET ?/seam HTTP/1.1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
-  CHECK(code_of("POST http://x/seam HTTP/1.1\r\nContent-Length: 1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
-  CHECK(code_of("GET * HTTP/1.1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
-  CHECK(parse_request_head("OPTIONS * HTTP/1.1\r\n\r\n", {}).ok());
+  CHECK(parse_request_head("GET / HTTP/1.1\r\nHost: a\r\nX: " + std::string(8187, 'a') + "\r\n\r\n", {}).ok());
+  CHECK(code_of("GET / HTTP/1.1\r\nHost: a\r\nX: " + std::string(8188, 'a') + "\r\n\r\n") ==
+        ApiErrorCode::kHeadersTooLarge);
+  CHECK(code_of("GET / HTTP/1.1\r\nHost: a\r\nX:" + std::string(8188, 'a') + "\r\n\r\n") ==
+        ApiErrorCode::kHeadersTooLarge);
+  CHECK(code_of("GET ?/seam HTTP/1.1\r\nHost: a\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(code_of("POST http://x/seam HTTP/1.1\r\nHost: a\r\nContent-Length: 1\r\n\r\n") ==
+        ApiErrorCode::kMalformedRequest);
+  CHECK(code_of("GET * HTTP/1.1\r\nHost: a\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(parse_request_head("OPTIONS * HTTP/1.1\r\nHost: a\r\n\r\n", {}).ok());
+}
+
+TEST_CASE("http_head: exactly one Host in HTTP/1.1, at most one in HTTP/1.0") {
+  CHECK(code_of("GET / HTTP/1.1\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(code_of("GET / HTTP/1.1\r\nHost: a\r\nhost: b\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(code_of("GET / HTTP/1.0\r\nHost: a\r\nHost: a\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  CHECK(parse_request_head("GET / HTTP/1.0\r\n\r\n", {}).ok());
+  CHECK(parse_request_head("GET / HTTP/1.1\r\nHOST: a\r\n\r\n", {}).ok());
+}
+
+TEST_CASE("http_head: a bare LF is found where the scan starts, and CRLF is not one") {
+  CHECK_FALSE(has_bare_lf("GET / HTTP/1.1\r\nHost: a\r\n"));
+  CHECK(has_bare_lf("GET / HTTP/1.1\nHost"));
+  CHECK(has_bare_lf("\nGET"));
+  const std::string_view trickled = "GET /\r\nX: a\n";
+  CHECK(has_bare_lf(trickled, 8));  // only the new bytes are scanned
+  CHECK_FALSE(has_bare_lf(trickled, trickled.size()));
+  CHECK_FALSE(has_bare_lf("GET /\r\n", 7));  // the LF at 7 has its CR at 6, before the scan
+}
+
+namespace {
+
+// Feeds `body` to a fresh checker in pieces of `piece` bytes; returns the checker and how many
+// bytes it took.
+std::pair<ChunkedFraming, std::size_t> framed(std::string_view body, std::size_t piece) {
+  ChunkedFraming framing;
+  std::size_t used = 0;
+  while (used < body.size() && !framing.done() && !framing.failed()) {
+    const auto n = framing.feed(body.substr(used, piece));
+    used += n;
+    if (n < std::min(piece, body.size() - (used - n))) break;  // stopped inside the piece
+  }
+  return {framing, used};
+}
+
+}  // namespace
+
+TEST_CASE("http_head: a chunked body ends at its last CRLF, in one piece or byte by byte") {
+  const std::string body = "3\r\nabc\r\nA;name=\"v\" \r\n0123456789\r\n000\r\n\r\n";
+  const std::string next = "GET /healthz HTTP/1.1\r\nHost: a\r\n\r\n";
+  for (const std::size_t piece : {std::size_t{1}, std::size_t{2}, std::size_t{7}, std::size_t{4096}}) {
+    CAPTURE(piece);
+    const auto [framing, used] = framed(body + next, piece);
+    CHECK(framing.done());
+    CHECK_FALSE(framing.failed());
+    CHECK(used == body.size());  // not a byte of the next request
+    CHECK(framing.error().empty());
+  }
+  const auto [partial, used] = framed(body.substr(0, body.size() - 1), 4096);
+  CHECK_FALSE(partial.done());
+  CHECK_FALSE(partial.failed());
+  CHECK(used == body.size() - 1);
+}
+
+TEST_CASE("http_head: every chunked framing error stops at the byte that breaks it") {
+  struct Case {
+    std::string body;
+    std::size_t taken;  // bytes accepted before the one that breaks the framing
+    std::string why;
+  };
+  for (const auto& c : std::vector<Case>{
+           {"zz\r\nGET /version HTTP/1.1\r\n", 0, "start with the size"},  // the audit's desync
+           {"3\r\nabcXX0\r\n\r\n", 6, "data must end with CRLF"},          // 0.11.4 took "abc"
+           {"3\r\nabc\rX", 7, "data must end with CRLF"},
+           {"3\nabc\r\n", 1, "size line must end with CRLF"},
+           {"\r\n", 0, "start with the size"},
+           {"-3\r\n", 0, "start with the size"},
+           {"3x\r\n", 1, "hex digits"},
+           {"1000000000000000\r\n", 15, "15 hex digits"},
+           {"3;a\x01\r\n", 3, "control byte"},
+           {"3;a\nabc", 3, "control byte"},
+           {"0\r\nX-Trailer: 1\r\n\r\n", 3, "trailer fields"},
+           {"0\r\n\rX", 4, "followed by CRLF"},
+       }) {
+    CAPTURE(c.body);
+    for (const std::size_t piece : {std::size_t{1}, std::size_t{4096}}) {
+      const auto [framing, used] = framed(c.body, piece);
+      CHECK(framing.failed());
+      CHECK_FALSE(framing.done());
+      CHECK(used == c.taken);
+      CHECK(framing.error().find(c.why) != std::string::npos);
+      CHECK(framing.error().rfind("malformed chunked body: ", 0) == 0);
+    }
+  }
 }
 
 }  // namespace seam_http_head_test
