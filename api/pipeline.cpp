@@ -279,7 +279,7 @@ json response_body(const GltfDocument& doc, const std::vector<Selected>& selecte
   json body = {{"primitives", json::array()}};
   for (std::size_t i = 0; i < selected.size(); ++i) {
     json entry = {{"mesh", selected[i].mesh}, {"primitive", selected[i].primitive}, {"name", mesh_name(doc, selected[i].mesh)}};
-    entry.update(summaries[i]);
+    for (auto& [key, value] : summaries[i].items()) entry[key] = std::move(value);  // moved: 10k reports are 90 MB
     entry["draco"] = static_cast<bool>(draco[i]);
     body["primitives"].push_back(std::move(entry));
   }
@@ -307,6 +307,13 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
   read_limits.max_faces = limits.max_faces;
   SEAM_TRY(const GltfDocument doc, parse_asset(asset_bytes, kind, read_limits));
   SEAM_TRY(const std::vector<Selected> selected, select_primitives(doc, params));
+  if (selected.size() > limits.max_primitives) {
+    return make_api_error(ApiErrorCode::kMeshTooLarge,
+                          "the request selects " + std::to_string(selected.size()) +
+                              " triangle primitives, more than the limit of " + std::to_string(limits.max_primitives) +
+                              " (--max-primitives; select fewer with primitives)",
+                          {{"limit", limits.max_primitives}, {"primitives", selected.size()}});
+  }
   SEAM_TRY(const std::vector<PrimitiveData> data, read_selected(doc, selected, read_limits));
   timings["parse"] = ms_since(t);
   if (cancel.is_cancelled()) {

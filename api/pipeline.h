@@ -29,6 +29,10 @@ struct PipelineLimits {
   /// any mesh work; automatic detection keeps at most this many, the most prominent, minus
   /// the explicit ones. The seam's cost grows with the square of the extrema count.
   std::size_t max_extrema = 256;
+  /// More selected triangle primitives than this are a 422 (kMeshTooLarge) before any is
+  /// read: each costs ~15 KB and ~0.15 ms however small (its job, report and output
+  /// accessors), so 5 MB of glTF naming one tetrahedron 100,000 times took 1.7 GB and 15 s.
+  std::size_t max_primitives = 10'000;
   /// Threads the job may run at once (extrema detection, terminal-path Dijkstra); 0 = the
   /// hardware concurrency. The result does not depend on it.
   unsigned threads = 0;
@@ -46,12 +50,11 @@ struct PipelineOutput {
 /// limits.max_extrema, checked before the asset is parsed); the loader's (parse_asset,
 /// read_primitive); kInvalidParameter (a primitives entry naming no mesh or a primitive twice;
 /// top-level extrema naming vertices while several primitives are selected);
-/// kNoTrianglePrimitive (nothing to cut); kMeshTooLarge (the selected primitives exceed
-/// limits.max_faces in all); process_primitive's errors, with details.mesh and
-/// details.primitive and, when several are processed, the message prefixed by them (the
-/// first failing primitive in asset order); kTimeout (cancelled); kInternal.
-/// Uses at most max(1, limits.threads) threads (hardware concurrency when 0): min(threads,
-/// primitives) primitives at once, each with an equal share. The result does not depend on it.
+/// kNoTrianglePrimitive (nothing to cut); kMeshTooLarge (more selected primitives than
+/// limits.max_primitives, or more than limits.max_faces faces in all); process_primitive's errors, with details.mesh
+/// and details.primitive and, when several are processed, the message prefixed by them (the first failing primitive in
+/// asset order); kTimeout (cancelled); kInternal. Uses at most max(1, limits.threads) threads (hardware concurrency
+/// when 0): min(threads, primitives) primitives at once, each with an equal share. The result does not depend on it.
 ApiResult<PipelineOutput> run_seam_pipeline(const std::string& asset_bytes, AssetKind kind,
                                             const SeamParams& params, const PipelineLimits& limits,
                                             const core::CancelToken& cancel);

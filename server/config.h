@@ -29,6 +29,7 @@ struct ServerConfig {
   /// face limit is lowered so that `workers` jobs of that size fit (effective_max_faces).
   std::uint64_t memory_limit_bytes = 0;
   std::size_t max_extrema = 256;                    ///< longer extrema lists are a 422
+  std::size_t max_primitives = 10'000;              ///< more selected primitives are a 422
   /// Helper threads one request may use (terminal paths, extrema); 0 = available CPUs /
   /// workers (the cgroup quota counts), so workers x threads never oversubscribes them.
   unsigned threads_per_request = 0;

@@ -325,8 +325,10 @@ struct Server::Impl {
   // Registers the job and hands it to the pool; false (and unregistered) when the pool's
   // queue is full. The worker fulfils the job's promise whatever happens, exceptions included.
   bool submit_job(const std::shared_ptr<JobState>& state) {
-    const api::PipelineLimits limits{
-        .max_faces = max_faces, .max_extrema = config.max_extrema, .threads = effective_threads_per_request(config)};
+    const api::PipelineLimits limits{.max_faces = max_faces,
+                                     .max_extrema = config.max_extrema,
+                                     .max_primitives = config.max_primitives,
+                                     .threads = effective_threads_per_request(config)};
     {
       std::lock_guard lock(jobs_mutex);
       live_jobs.insert(state.get());
@@ -673,21 +675,23 @@ std::string Server::try_line() const {
 }
 
 void Server::run() {
-  impl_->log->info(nlohmann::json{{"event", "listening"},
-                                  {"bind", impl_->config.bind},
-                                  {"port", impl_->bound_port},
-                                  {"workers", impl_->pool.workers()},
-                                  {"queue", impl_->pool.queue_capacity()},
-                                  {"http_threads", effective_http_threads(impl_->config)},
-                                  {"backlog", impl_->http.effective_backlog()},
-                                  {"threads_per_request", effective_threads_per_request(impl_->config)},
-                                  {"health_port", impl_->health_bound_port},
-                                  {"max_faces", impl_->max_faces},
-                                  {"memory_limit_bytes", effective_memory_limit(impl_->config)},
-                                  {"drain_timeout_s", impl_->drain_s},
-                                  {"version", SEAM_VERSION},
-                                  {"try", try_line()}}
-                       .dump());
+  impl_->log->info(nlohmann::json{
+      {"event", "listening"},
+      {"bind", impl_->config.bind},
+      {"port", impl_->bound_port},
+      {"workers", impl_->pool.workers()},
+      {"queue", impl_->pool.queue_capacity()},
+      {"http_threads", effective_http_threads(impl_->config)},
+      {"backlog", impl_->http.effective_backlog()},
+      {"threads_per_request", effective_threads_per_request(impl_->config)},
+      {"health_port", impl_->health_bound_port},
+      {"max_faces", impl_->max_faces},
+      {"max_primitives", impl_->config.max_primitives},
+      {"memory_limit_bytes", effective_memory_limit(impl_->config)},
+      {"drain_timeout_s", impl_->drain_s},
+      {"version", SEAM_VERSION},
+      {"try",
+       try_line()}}.dump());
   if (impl_->health) impl_->health_thread = std::thread([this] { impl_->health->listen_after_bind(); });
   // Returns once stop() closed the listening socket and the connection threads finished
   // their requests (httplib joins its pool), so every in-flight client has its answer.

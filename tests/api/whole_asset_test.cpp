@@ -217,6 +217,28 @@ TEST_CASE("the selection: by list, by mesh name, v1's mesh/primitive, and its re
   refused({{"pack", {{"texture_size", 8}}}}, ApiErrorCode::kInvalidParameter, "texture_size");
 }
 
+TEST_CASE("max_primitives: more selected triangle primitives than the limit is a 422 before any is read") {
+  const std::string asset = three_mesh_asset();  // 4 triangle primitives and a LINES one
+  auto params = params_from_json(json::object());
+  REQUIRE(params.ok());
+  PipelineLimits limits;
+  limits.max_primitives = 3;
+  auto refused = run_seam_pipeline(asset, AssetKind::kAuto, *params, limits, core::CancelToken::none());
+  REQUIRE_FALSE(refused.ok());
+  CHECK(refused.error().code == ApiErrorCode::kMeshTooLarge);
+  CHECK(refused.error().details["primitives"] == 4);
+  CHECK(refused.error().details["limit"] == 3);
+  CHECK_MESSAGE(refused.error().message.find("--max-primitives") != std::string::npos, refused.error().message);
+  limits.max_primitives = 4;  // the LINES primitive is not counted
+  auto all = run_seam_pipeline(asset, AssetKind::kAuto, *params, limits, core::CancelToken::none());
+  REQUIRE(all.ok());
+  CHECK(all->body["primitives"].size() == 4);
+  auto one = params_from_json({{"primitives", {{{"mesh", 1}}}}});
+  REQUIRE(one.ok());
+  limits.max_primitives = 1;
+  CHECK(run_seam_pipeline(asset, AssetKind::kAuto, *one, limits, core::CancelToken::none()).ok());
+}
+
 TEST_CASE("charts features: a cube opens into its six sides, each flat (angle distortion 1)") {
   const auto cube = fixtures::voxel_surface({{0, 0, 0}});
   auto glb = write_plain_glb(core::IndexedMesh{cube.positions, cube.triangles});
