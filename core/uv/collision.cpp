@@ -1,6 +1,7 @@
 #include "core/uv/collision.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -87,34 +88,8 @@ void for_each_box_pair(const std::vector<Box>& boxes, std::size_t split, F&& f) 
   }
 }
 
-// Earliest t in (0, t_max] at which p + t dp lies on the segment [a + t da, b + t db].
-double contact_time(const Vec2& p, const Vec2& dp, const Vec2& a, const Vec2& da, const Vec2& b, const Vec2& db,
-                    double t_max, double gap) {
-  const Vec2 e = b - a;
-  const Vec2 de = db - da;
-  const Vec2 q = p - a;
-  const Vec2 dq = dp - da;
-  const double len = e.norm();
-  double c0 = cross2(e, q);
-  const double c1 = cross2(e, dq) + cross2(de, q);
-  if (gap > 0 && len > 0) {
-    // The line offset by `gap` towards the vertex: cross(e, q) = side * gap * |e|.
-    const double side = c0 >= 0 ? 1.0 : -1.0;
-    const double s0 = q.dot(e) / (len * len);
-    const double slack = gap / len;
-    if (std::abs(c0) <= gap * len && s0 >= -slack && s0 <= 1 + slack) {
-      // Already within the gap: moving closer is a contact now. Moving away at first order,
-      // the vertex can still come back, since the edge turns and stretches along the step
-      // (the quadratic term; a spike's vertex beside its own edge's neighbour crossed it so,
-      // F16): it may not come closer than half its present distance within the step.
-      if (side * c1 < 0) return 0.0;
-      c0 *= 0.5;
-    } else {
-      c0 -= side * gap * len;
-    }
-  }
-  const double c2 = cross2(de, dq);
-  double roots[2];
+// The roots in (0, t_max] of c0 + c1 t + c2 t^2, in increasing order; returns how many.
+int step_roots(double c0, double c1, double c2, double t_max, double roots[2]) {
   int count = 0;
   const double scale = std::abs(c0) + std::abs(c1) * t_max + std::abs(c2) * t_max * t_max;
   if (std::abs(c2) * t_max * t_max <= 1e-14 * scale) {
@@ -131,16 +106,65 @@ double contact_time(const Vec2& p, const Vec2& dp, const Vec2& a, const Vec2& da
     }
   }
   if (count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
+  int kept = 0;
   for (int k = 0; k < count; ++k) {
-    const double t = roots[k];
-    if (!(t > 0) || t > t_max) continue;
-    const Vec2 et = e + t * de;
-    const double len2 = et.squaredNorm();
-    const double s = len2 > 0 ? (q + t * dq).dot(et) / len2 : 0.0;
-    const double slack = len2 > 0 ? 1e-9 + gap / std::sqrt(len2) : 1e-9;
-    if (s >= -slack && s <= 1 + slack) return t;
+    if (roots[k] > 0 && roots[k] <= t_max) roots[kept++] = roots[k];
   }
-  return std::numeric_limits<double>::infinity();
+  return kept;
+}
+
+// Earliest t in (0, t_max] at which p + t dp lies on the segment [a + t da, b + t db], or
+// (gap > 0) comes within `gap` of it. The signed area c(t) = cross(e(t), q(t)) is quadratic in
+// t; the vertex meets the band |c| <= gap |e| around the segment on either of its lines. Both
+// are solved: a vertex beside the segment's end may pass around it to the far side and come
+// back across the segment from there within one step (F18: the near line alone found that
+// crossing 2e-4 after the step bound, and SLIM's map overlapped itself).
+double contact_time(const Vec2& p, const Vec2& dp, const Vec2& a, const Vec2& da, const Vec2& b, const Vec2& db,
+                    double t_max, double gap) {
+  const Vec2 e = b - a;
+  const Vec2 de = db - da;
+  const Vec2 q = p - a;
+  const Vec2 dq = dp - da;
+  const double len = e.norm();
+  const double c0 = cross2(e, q);
+  const double c1 = cross2(e, dq) + cross2(de, q);
+  const double c2 = cross2(de, dq);
+  // The values of c(t) at which the vertex touches the band: the segment itself without a gap.
+  std::array<double, 2> lines{0.0, 0.0};
+  int line_count = 1;
+  if (gap > 0 && len > 0) {
+    const double side = c0 >= 0 ? 1.0 : -1.0;
+    const double s0 = q.dot(e) / (len * len);
+    const double slack = gap / len;
+    if (std::abs(c0) <= gap * len && s0 >= -slack && s0 <= 1 + slack) {
+      // Already within the gap: moving closer is a contact now. Moving away at first order,
+      // the vertex can still come back, since the edge turns and stretches along the step
+      // (the quadratic term; a spike's vertex beside its own edge's neighbour crossed it so,
+      // F16): it may not come closer than half its present distance within the step.
+      if (side * c1 < 0) return 0.0;
+      lines = {0.5 * c0, -0.5 * c0};
+    } else {
+      lines = {side * gap * len, -side * gap * len};
+    }
+    line_count = 2;
+  }
+  double earliest = std::numeric_limits<double>::infinity();
+  for (int l = 0; l < line_count; ++l) {
+    double roots[2];
+    const int count = step_roots(c0 - lines[l], c1, c2, t_max, roots);
+    for (int k = 0; k < count; ++k) {
+      const double t = roots[k];
+      const Vec2 et = e + t * de;
+      const double len2 = et.squaredNorm();
+      const double s = len2 > 0 ? (q + t * dq).dot(et) / len2 : 0.0;
+      const double slack = len2 > 0 ? 1e-9 + gap / std::sqrt(len2) : 1e-9;
+      if (s >= -slack && s <= 1 + slack) {
+        earliest = std::min(earliest, t);
+        break;  // the later root of this line comes after
+      }
+    }
+  }
+  return earliest;
 }
 
 bool on_segment(const Vec2& a, const Vec2& b, const Vec2& p) {

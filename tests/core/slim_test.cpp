@@ -292,6 +292,50 @@ TEST_CASE("a boundary vertex within the gap that first moves away still may not 
   CHECK(bare_pair->time == doctest::Approx(crossing).epsilon(1e-9));
 }
 
+TEST_CASE("a boundary vertex that passes around an edge's end and comes back across it is bounded") {
+  // F18 (mesh_fuzz): SLIM's first step from a Tutte start on a 19-vertex strip (every vertex on
+  // the boundary). Vertex p starts 3.25 from the line of edge (a, b) beyond a's end, crosses
+  // that line off the segment at t = 0.058, and comes back across the segment itself from the
+  // far side at t = 0.5823. Only the near side's gap line was solved, whose second root fell
+  // 2e-4 after the step bound of 0.58237: the step was taken and the map overlapped itself.
+  DiscPatch patch;
+  patch.positions.assign(5, Vec3::Zero());
+  patch.boundary = {0, 1, 2, 3, 4};  // a, b, x, p, y
+  const std::vector<Vec2> uv = {Vec2(99.870545676252192, 18.130941133958594), Vec2(95.025721851380425, 35.678692614774),
+                                Vec2(300, 300), Vec2(101.50298971003488, 0), Vec2(300, -300)};
+  std::vector<Vec2> dir(5, Vec2::Zero());
+  dir[0] = Vec2(-32.406708895038484, -87.25080727449226);
+  dir[1] = Vec2(16.401902564265736, -104.65371105923592);
+  dir[3] = Vec2(-26.921488415971542, -53.505669595132517);
+  const double t_max = 0.58236792743333854;
+  auto at = [&](std::size_t v, double t) { return Vec2(uv[v] + t * dir[v]); };
+  auto side = [&](double t) { return cross2(at(0, t), at(1, t), at(3, t)); };
+  auto along = [&](double t) {
+    const Vec2 e = at(1, t) - at(0, t);
+    return (at(3, t) - at(0, t)).dot(e) / e.squaredNorm();
+  };
+  REQUIRE(side(0) > 0);
+  REQUIRE(side(0.3) < 0);  // across the line, but beyond a's end
+  REQUIRE(along(0.3) < 0);
+  REQUIRE(side(t_max) > 0);  // back across the line, on the segment this time
+  REQUIRE(along(t_max) > 0);
+  REQUIRE(along(t_max) < 1);
+  double lo = 0.3, hi = t_max;
+  for (int i = 0; i < 60; ++i) (side(0.5 * (lo + hi)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+  const double crossing = lo;  // about 0.58227
+  for (const double gap : {0.0, 0.01}) {
+    CAPTURE(gap);
+    const CollisionStep c = max_collision_free_step(patch, uv, dir, t_max, gap);
+    const auto pair = std::find_if(c.contacts.begin(), c.contacts.end(),
+                                   [](const auto& k) { return k.vertex == 3 && k.a == 0 && k.b == 1; });
+    REQUIRE(pair != c.contacts.end());
+    CHECK(c.limited);
+    CHECK(c.step <= pair->time);
+    if (gap == 0) CHECK(pair->time == doctest::Approx(crossing).epsilon(1e-9));
+    if (gap > 0) CHECK(pair->time < crossing);
+  }
+}
+
 TEST_CASE("the collision step bound finds every colliding vertex-edge pair that a brute-force scan finds") {
   // A fan disc with a 240-gon boundary on a wobbly circle and every boundary vertex pushed
   // across the disc by a pseudo-random step: hundreds of crossings, many per grid cell. The
