@@ -220,6 +220,47 @@ std::vector<Piece> pieces_of(const PackChart& chart, const SplitOptions& options
 
 }  // namespace
 
+ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<const std::vector<std::uint32_t>> parts) {
+  std::vector<double> areas;
+  double uv_area = 0;
+  for (const auto& part : parts) {
+    double area = 0;
+    for (std::uint32_t t : part) area += area_of(chart, chart.triangles[t]);
+    areas.push_back(area);
+    uv_area += area;
+  }
+  SEAM_ASSERT(uv_area > 0);
+  const double scale = std::sqrt(chart.surface_area / uv_area);
+  ChartPieces result;
+  // Edges by the pieces that use them: an edge of two pieces is a cut, of one use a border.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<int, 2>> edges;  // {uses, first piece}
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    ChartPiece out{index, {}, {}, parts[p], chart.surface_area * areas[p] / uv_area};
+    std::map<std::uint32_t, std::uint32_t> local;
+    for (std::uint32_t t : parts[p]) {
+      Triangle tri;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = chart.triangles[t][k];
+        const auto [it, added] = local.try_emplace(v, static_cast<std::uint32_t>(out.vertices.size()));
+        if (added) out.vertices.push_back(v);
+        tri[k] = it->second;
+        auto [e, fresh] = edges.try_emplace(std::minmax(v, chart.triangles[t][(k + 1) % 3]),
+                                            std::array<int, 2>{0, static_cast<int>(p)});
+        e->second[0] += 1;
+        if (e->second[1] != static_cast<int>(p)) e->second[0] += 2;  // used by another piece: a cut
+      }
+      out.triangles.push_back(tri);
+    }
+    result.pieces.push_back(std::move(out));
+  }
+  for (const auto& [e, use] : edges) {
+    const double length = scale * (chart.uv[e.first] - chart.uv[e.second]).norm();
+    if (use[0] == 1) result.boundary_length += length;
+    if (use[0] > 2) result.cut_length += length;
+  }
+  return result;
+}
+
 Result<SplitResult> split_sprawling_charts(std::span<const PackChart> charts, const SplitOptions& options) {
   if (!(options.min_fill >= 0 && options.min_fill <= 1) || options.max_pieces < 1 || options.min_triangles < 2) {
     return make_error(ErrorCode::kInvalidArgument, "split: min_fill must be in [0, 1], max_pieces >= 1, min_triangles >= 2");
@@ -232,32 +273,12 @@ Result<SplitResult> split_sprawling_charts(std::span<const PackChart> charts, co
     double uv_area = 0;
     for (const Piece& p : pieces) uv_area += p.area;
     if (!(uv_area > 0)) return make_error(ErrorCode::kInvalidArgument, "split: chart " + std::to_string(c) + " has zero UV area");
-    const double scale = std::sqrt(chart.surface_area / uv_area);
-    // Edges by the pieces that use them: an edge of two pieces is a cut, of one use a border.
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<int, 2>> edges;  // {uses, first piece}
-    for (std::size_t p = 0; p < pieces.size(); ++p) {
-      ChartPiece out{c, {}, {}, pieces[p].triangles, chart.surface_area * pieces[p].area / uv_area};
-      std::map<std::uint32_t, std::uint32_t> local;
-      for (std::uint32_t t : pieces[p].triangles) {
-        Triangle tri;
-        for (int k = 0; k < 3; ++k) {
-          const std::uint32_t v = chart.triangles[t][k];
-          const auto [it, added] = local.try_emplace(v, static_cast<std::uint32_t>(out.vertices.size()));
-          if (added) out.vertices.push_back(v);
-          tri[k] = it->second;
-          auto [e, fresh] = edges.try_emplace(std::minmax(v, chart.triangles[t][(k + 1) % 3]), std::array<int, 2>{0, static_cast<int>(p)});
-          e->second[0] += 1;
-          if (e->second[1] != static_cast<int>(p)) e->second[0] += 2;  // used by another piece: a cut
-        }
-        out.triangles.push_back(tri);
-      }
-      result.pieces.push_back(std::move(out));
-    }
-    for (const auto& [e, use] : edges) {
-      const double length = scale * (chart.uv[e.first] - chart.uv[e.second]).norm();
-      if (use[0] == 1) result.boundary_length += length;
-      if (use[0] > 2) result.cut_length += length;
-    }
+    std::vector<std::vector<std::uint32_t>> parts;
+    for (const Piece& p : pieces) parts.push_back(p.triangles);
+    ChartPieces out = chart_pieces(chart, c, parts);
+    for (ChartPiece& p : out.pieces) result.pieces.push_back(std::move(p));
+    result.cut_length += out.cut_length;
+    result.boundary_length += out.boundary_length;
     if (pieces.size() > 1) ++result.charts_split;
   }
   return result;

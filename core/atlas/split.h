@@ -37,6 +37,9 @@ struct ChartPiece {
   /// The chart's surface_area times the piece's share of the chart's UV area, so the piece
   /// packs at the chart's own scale.
   double surface_area = 0;
+  /// The piece's triangles all turn clockwise: negate its u (a mirror image) before packing
+  /// and none is flipped (untangle_charts sets it; split_sprawling_charts never does).
+  bool mirrored = false;
 };
 
 struct SplitResult {
@@ -47,6 +50,20 @@ struct SplitResult {
   double cut_length = 0;
   double boundary_length = 0;
 };
+
+/// The pieces of one chart and the lengths their cuts add.
+struct ChartPieces {
+  std::vector<ChartPiece> pieces;
+  double cut_length = 0;       ///< as SplitResult::cut_length
+  double boundary_length = 0;  ///< as SplitResult::boundary_length
+};
+
+/// The pieces of chart number `index` whose triangles (indices into chart.triangles) are each
+/// of `parts`, in that order: each piece's vertices in order of first use, its surface_area the
+/// chart's times its share of the UV area (|signed area|). Edges used by two parts are cuts.
+/// Preconditions: every triangle in exactly one part, the chart's UV area > 0 (SEAM_ASSERT).
+/// O(T log T).
+ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<const std::vector<std::uint32_t>> parts);
 
 /// Splits each chart whose fill (UV area / its minimal enclosing rectangle's area) is below
 /// options.min_fill, recursively (the largest piece first), into at most options.max_pieces
