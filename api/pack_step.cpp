@@ -7,6 +7,7 @@
 #include "core/atlas/overlap.h"
 #include "core/atlas/pack.h"
 #include "core/atlas/split.h"
+#include "core/atlas/untangle.h"
 
 namespace seam::api {
 namespace {
@@ -82,8 +83,10 @@ std::vector<ChartData> packable_charts(const PrimitiveResult& r, std::size_t mem
 }
 
 // A piece after the first of its chart becomes a chart of its own: its vertices that an
-// earlier piece holds (on the cut) are duplicated, with the same source vertex and UV.
-void detach_piece(const core::ChartPiece& piece, const ChartData& chart, std::vector<char>& claimed, PrimitiveResult& r) {
+// earlier piece holds (on the cut) are duplicated, with the same source vertex and UV. Returns
+// the piece's output vertices.
+std::vector<std::uint32_t> detach_piece(const core::ChartPiece& piece, const ChartData& chart,
+                                        std::vector<char>& claimed, PrimitiveResult& r) {
   const auto id = static_cast<std::uint32_t>(r.chart_area.size());
   r.chart_area.push_back(piece.surface_area);
   std::vector<std::uint32_t> vertex_of(piece.vertices.size());  // piece-local vertex -> output vertex
@@ -106,6 +109,34 @@ void detach_piece(const core::ChartPiece& piece, const ChartData& chart, std::ve
     const core::Triangle& t = piece.triangles[i];
     r.cut.triangles[chart.triangle_ids[piece.chart_triangles[i]]] = {vertex_of[t[0]], vertex_of[t[1]], vertex_of[t[2]]};
   }
+  return vertex_of;
+}
+
+// Writes the pieces of the member's charts (split or untangled, in order of chart) into its
+// cut primitive: the first piece of a chart keeps the chart's id and vertices, the others are
+// detached. A mirrored piece's u is negated (exact in float; packing moves it into place).
+void apply_pieces(const std::vector<core::ChartPiece>& pieces, const std::vector<ChartData>& charts,
+                  PrimitiveResult& r) {
+  std::vector<char> claimed(r.cut.uv.size(), 0);
+  std::vector<char> seen(charts.size(), 0);
+  std::vector<std::uint32_t> mirrored;  // output vertices of mirrored pieces
+  for (const core::ChartPiece& piece : pieces) {
+    const ChartData& chart = charts[piece.chart];
+    std::vector<std::uint32_t> vertices;
+    if (seen[piece.chart] == 0) {  // the first piece keeps the chart's id and vertices
+      seen[piece.chart] = 1;
+      r.chart_area[r.chart[chart.vertices[piece.vertices.front()]]] = piece.surface_area;
+      for (const std::uint32_t u : piece.vertices) {
+        claimed[chart.vertices[u]] = 1;
+        vertices.push_back(chart.vertices[u]);
+      }
+    } else {
+      vertices = detach_piece(piece, chart, claimed, r);
+    }
+    if (piece.mirrored) mirrored.insert(mirrored.end(), vertices.begin(), vertices.end());
+  }
+  // Only now: a later piece's copy of a vertex on the cut takes the unmirrored UV.
+  for (const std::uint32_t g : mirrored) r.cut.uv[g][0] = -r.cut.uv[g][0];
 }
 
 // pack.split: cuts the member's sprawling charts (core::split_sprawling_charts) in its cut
@@ -118,20 +149,33 @@ ApiResult<core::Ok> split_member_charts(PrimitiveResult& r, std::size_t member, 
   if (!split.ok()) {
     return make_api_error(ApiErrorCode::kInternal, "splitting the UV charts failed: " + split.error().message);
   }
-  std::vector<char> claimed(r.cut.uv.size(), 0);
-  std::vector<char> seen(charts.size(), 0);
-  for (const core::ChartPiece& piece : split->pieces) {
-    const ChartData& chart = charts[piece.chart];
-    if (seen[piece.chart] == 0) {  // the first piece keeps the chart's id and vertices
-      seen[piece.chart] = 1;
-      r.chart_area[r.chart[chart.vertices[piece.vertices.front()]]] = piece.surface_area;
-      for (const std::uint32_t u : piece.vertices) claimed[chart.vertices[u]] = 1;
-      continue;
-    }
-    detach_piece(piece, chart, claimed, r);
-  }
+  apply_pieces(split->pieces, charts, r);
   outcome.charts_split = split->charts_split;
   outcome.split_cut_length = split->cut_length;
+  return core::Ok{};
+}
+
+// Cuts the member's charts that fold or overlap themselves (core::untangle_charts; `uv: lscm`,
+// `bff`, `arap` make them) into valid pieces, mirroring those that turn the wrong way; counts
+// what it did in `outcome`. The charts go in with v negated: the output's v runs down (v' =
+// 1 - v), and the core calls counter-clockwise in the parameterization's frame right.
+ApiResult<core::Ok> untangle_member_charts(PrimitiveResult& r, std::size_t member, PackOutcome& outcome,
+                                           const core::CancelToken& cancel) {
+  const std::vector<ChartData> charts = packable_charts(r, member);
+  std::vector<std::vector<core::Vec2>> upright(charts.size());
+  std::vector<core::PackChart> input;
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    for (const core::Vec2& p : charts[c].uv) upright[c].emplace_back(p.x(), -p.y());
+    input.push_back({upright[c], charts[c].triangles, charts[c].area});
+  }
+  auto untangled = core::untangle_charts(input, cancel);
+  if (!untangled.ok()) {
+    if (untangled.error().code == core::ErrorCode::kCancelled) return from_core(untangled.error());
+    return make_api_error(ApiErrorCode::kInternal, "untangling the UV charts failed: " + untangled.error().message);
+  }
+  if (untangled->charts_untangled > 0) apply_pieces(untangled->pieces, charts, r);
+  outcome.untangle = {untangled->charts_untangled, untangled->pieces_added, untangled->pieces_mirrored,
+                      untangled->unflipped, untangled->cut_length};
   return core::Ok{};
 }
 
@@ -217,6 +261,10 @@ ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const 
     for (std::size_t i = 0; i < members.size(); ++i) {
       outcomes[i].group = group[i];
       if (group[i] != g || members[i].result->cut.uv.empty()) continue;
+      if (params.enabled) {
+        SEAM_TRY(core::Ok untangled, untangle_member_charts(*members[i].result, i, outcomes[i], cancel));
+        (void)untangled;
+      }
       if (params.enabled && params.split) {
         SEAM_TRY(core::Ok split, split_member_charts(*members[i].result, i, outcomes[i]));
         (void)split;

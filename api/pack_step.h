@@ -21,6 +21,15 @@ struct PackMember {
   PrimitiveResult* result = nullptr;
 };
 
+/// What the untangling (core::untangle_charts) did to a primitive's charts before packing.
+struct UntangleOutcome {
+  std::size_t charts = 0;           ///< charts that folded or overlapped themselves
+  std::size_t pieces_added = 0;     ///< pieces beyond one per such chart
+  std::size_t pieces_mirrored = 0;  ///< pieces that turned clockwise, mirrored
+  std::size_t unflipped = 0;        ///< flipped triangles that mirroring turned right way round
+  double cut_length = 0;            ///< length of the new cuts (surface units)
+};
+
 /// What a primitive's `uv` reports after packing.
 struct PackOutcome {
   std::uint32_t group = 0;     ///< index of its group, in order of first member
@@ -31,15 +40,19 @@ struct PackOutcome {
   std::size_t charts = 0;      ///< its charts after packing (and splitting)
   std::size_t charts_split = 0;  ///< with params.split: its charts that were cut
   double split_cut_length = 0;   ///< with params.split: length of its new cuts (surface units)
+  UntangleOutcome untangle;      ///< with params.enabled
 };
 
 /// Packs the members' new UV sets (members without UVs are skipped) group by group with
 /// core::pack_charts: each chart of each member (PrimitiveResult::chart) scaled to the group's
 /// texel density, rotated, placed margin_px apart. Members are grouped by params.group_by: the
 /// whole asset, the mesh, the primitive's `material` (none is a group of its own), or each
-/// primitive alone. With params.split, sprawling charts are first cut into pieces
-/// (core::split_sprawling_charts): a piece's vertices on a cut are duplicated in the member's
-/// CutPrimitive (same source vertex and UV), so the output gets the new seams. With
+/// primitive alone. Before packing, a chart that folds (a clockwise triangle) or overlaps itself
+/// is cut into pieces that are each flip- and overlap-free (core::untangle_charts; a piece
+/// turning clockwise is mirrored), so the atlas has no overlap whatever the method; charts
+/// that are valid (every `uv: slim` chart) are untouched. With params.split, sprawling charts are then cut into pieces
+/// (core::split_sprawling_charts). Either way a piece's vertices on a cut are duplicated in the
+/// member's CutPrimitive (same source vertex and UV), so the output gets the new seams. With
 /// params.enabled false nothing moves and only the measurements are made (each primitive
 /// its own group). Errors: kInvalidParameter (a group has more charts than margin_px lets
 /// texture_size hold: core::margins_fit), kInternal (the packer refused a chart: a bug

@@ -346,14 +346,26 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
     if (summary["uv"].is_object()) {
       json& uv = summary["uv"];
       uv["channel"] = written.primitives[i].uv_channel;
-      uv["flipped"] = uv["flipped"].get<std::size_t>() + packed[i].flipped;
+      // Mirroring an untangled piece turns its flipped triangles right way round; the packing's
+      // rounding may turn some over.
+      const PackOutcome& p = packed[i];
+      const std::size_t flipped = uv["flipped"].get<std::size_t>();
+      uv["flipped"] = flipped - std::min(flipped, p.untangle.unflipped) + p.flipped;
       uv["overlap_area"] = packed[i].overlap_area;
       uv["coverage"] = packed[i].coverage;
       uv["pack_group"] = packed[i].group;
       uv["charts"] = packed[i].charts;
-      if (params.pack.enabled) uv["texel_density"] = packed[i].texel_density;
+      if (params.pack.enabled) {
+        uv["texel_density"] = p.texel_density;
+        uv["untangle"] = {{"charts", p.untangle.charts},
+                          {"pieces_added", p.untangle.pieces_added},
+                          {"pieces_mirrored", p.untangle.pieces_mirrored},
+                          {"cut_length", p.untangle.cut_length}};
+      }
       if (params.pack.enabled && params.pack.split) {
         uv["split"] = {{"charts_split", packed[i].charts_split}, {"cut_length", packed[i].split_cut_length}};
+      }
+      if (params.pack.enabled && (params.pack.split || p.untangle.charts > 0)) {
         summary["cut"]["asset_vertices"] = jobs.results[i]->cut.source_vertex.size();
       }
     }

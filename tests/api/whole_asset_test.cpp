@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
+#include <numeric>
 #include <set>
 #include <string>
 
@@ -441,6 +444,74 @@ TEST_CASE("pack split: faces degenerate after welding, each there twice, stay in
   CHECK(spread == 0);
   std::string report;
   CHECK_MESSAGE(test_gltf::validator_errors(split.glb, report, "split_degenerate_out.glb") == 0, report);
+}
+
+// A file of the real-looking asset set (.cache/assets, built by scripts/fetch-test-data.sh).
+std::string asset_set_file(const std::string& name) {
+  const auto path = std::filesystem::path(SEAM_TEST_DATA_DIR).parent_path() / "assets" / name;
+  if (!std::filesystem::exists(path)) FAIL("missing " << path.string() << ": run scripts/fetch-test-data.sh");
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Twice the signed UV area of each triangle of TEXCOORD_<channel>.
+std::vector<double> uv_orientations(const PrimitiveData& p, int channel) {
+  const std::vector<std::array<double, 2>> uv = texcoords(p, channel);
+  std::vector<double> out;
+  for (const auto& t : p.mesh.triangles) {
+    const auto a = uv.at(t[0]), b = uv.at(t[1]), c = uv.at(t[2]);
+    out.push_back((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+  }
+  return out;
+}
+
+TEST_CASE("untangle: lscm, bff and arap charts that folded or overlapped themselves are packed as valid pieces") {
+  const std::string props = asset_set_file("props.glb");
+  // The default's charts are valid: nothing to untangle.
+  for (const auto& e : run_ok(props, json::object()).body["primitives"]) CHECK(e["uv"]["untangle"]["charts"] == 0);
+  std::size_t added = 0;
+  for (const char* method : {"lscm", "bff", "arap"}) {
+    CAPTURE(method);
+    const PipelineOutput packed = run_ok(props, {{"uv", method}});
+    const PipelineOutput own = run_ok(props, {{"uv", method}, {"pack", false}});  // as flattened
+    auto doc = parse_asset(packed.glb, AssetKind::kGlb);
+    auto own_doc = parse_asset(own.glb, AssetKind::kGlb);
+    REQUIRE(doc.ok());
+    REQUIRE(own_doc.ok());
+    for (std::size_t i = 0; i < packed.body["primitives"].size(); ++i) {
+      const json& e = packed.body["primitives"][i];
+      CAPTURE(i);
+      CHECK(e["uv"]["overlap_area"] == 0.0);
+      CHECK(e["uv"]["flipped"] == 0);
+      added += e["uv"]["untangle"]["pieces_added"].get<std::size_t>();
+      const auto m = e["mesh"].get<std::uint32_t>(), p = e["primitive"].get<std::uint32_t>();
+      auto out = read_primitive(*doc, m, p);
+      auto before = read_primitive(*own_doc, m, p);
+      REQUIRE(out.ok());
+      REQUIRE(before.ok());
+      REQUIRE(out->mesh.triangles.size() == before->mesh.triangles.size());
+      CHECK(out->mesh.positions.size() == e["cut"]["asset_vertices"].get<std::size_t>());
+      // Every triangle keeps its UV shape: one scale factor from the flattened map to the
+      // packed one, and (pieces mirrored where they turned the wrong way) one orientation.
+      const std::vector<double> now = uv_orientations(*out, e["uv"]["channel"].get<int>());
+      const std::vector<double> then = uv_orientations(*before, own.body["primitives"][i]["uv"]["channel"].get<int>());
+      const double scale = uv_area(*out, e["uv"]["channel"].get<int>()) /
+                           uv_area(*before, own.body["primitives"][i]["uv"]["channel"].get<int>());
+      const double total =
+          std::accumulate(then.begin(), then.end(), 0.0, [](double s, double a) { return s + std::abs(a); });
+      std::size_t turned[2] = {0, 0};
+      for (std::size_t t = 0; t < now.size(); ++t) {
+        if (now[t] != 0) ++turned[now[t] > 0 ? 1 : 0];
+        if (std::abs(then[t]) < 1e-4 * total) continue;  // float32 blurs the smallest ones
+        CHECK(std::abs(now[t]) / std::abs(then[t]) == doctest::Approx(scale).epsilon(1e-2));
+      }
+      CHECK(std::min(turned[0], turned[1]) == 0);
+    }
+    std::string report;
+    CHECK_MESSAGE(test_gltf::validator_errors(packed.glb, report, std::string("untangled_") + method + ".glb") == 0,
+                  report);
+  }
+  CHECK(added > 0);
 }
 
 }  // namespace seam_whole_asset_test
