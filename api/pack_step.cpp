@@ -179,6 +179,15 @@ ApiResult<core::Ok> untangle_member_charts(PrimitiveResult& r, std::size_t membe
   return core::Ok{};
 }
 
+// Whether the member's flattening left anything to untangle: a flipped triangle or overlap,
+// as parameterize measured them exactly on its stored UVs. The default map (SLIM, injective)
+// leaves none, and the untangling's own check is not free: 0.94 s of the default job at
+// 1.25M faces (pack 441 -> 1,384 ms), so it runs only where the flattening reported a tangle.
+bool has_tangles(const PrimitiveResult& r) {
+  const nlohmann::json& uv = r.summary.at("uv");
+  return uv.at("flipped").get<std::size_t>() > 0 || uv.at("overlap_area").get<double>() > 0;
+}
+
 double orientation(const std::vector<std::array<float, 2>>& uv, const core::Triangle& t) {
   const auto& a = uv[t[0]];
   const auto& b = uv[t[1]];
@@ -261,7 +270,7 @@ ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const 
     for (std::size_t i = 0; i < members.size(); ++i) {
       outcomes[i].group = group[i];
       if (group[i] != g || members[i].result->cut.uv.empty()) continue;
-      if (params.enabled) {
+      if (params.enabled && has_tangles(*members[i].result)) {
         SEAM_TRY(core::Ok untangled, untangle_member_charts(*members[i].result, i, outcomes[i], cancel));
         (void)untangled;
       }
