@@ -390,7 +390,13 @@ ApiResult<Steering> steering(const PrimitiveData& data, const Surface& s, const 
     options.ambient_occlusion = params.hide_occluded;
     options.threads = threads;
     auto vis = core::compute_visibility(s.mesh, options, cancel);
-    if (!vis.ok()) return from_core(vis.error());
+    if (!vis.ok()) {
+      // The only options a client sets here are the views (params_from_json refuses zero and
+      // non-finite ones first); name the parameter like every other parameter error.
+      ApiError error = from_core(vis.error());
+      if (error.code == ApiErrorCode::kInvalidParameter) error.details["parameter"] = "hide_from";
+      return error;
+    }
     out.visibility = std::move(vis).value();
     out.edge_costs = core::hiding_multipliers(s.mesh, out.visibility, params.hide_strength);
   }

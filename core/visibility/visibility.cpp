@@ -126,9 +126,19 @@ struct FaceRays {
   }
 };
 
+// The unit vector along a finite non-zero v. Scaled by its largest |component| first: the
+// squared norm of (1e200, 1e200, 1e200) overflows to infinity (the "unit" vector came out 0,
+// so no face was seen) and that of (1e-200, 1e-200, 1e-200) underflows to 0.
+Vec3 unit_direction(const Vec3& v) {
+  const Vec3 scaled = v / v.cwiseAbs().maxCoeff();
+  return scaled / scaled.norm();
+}
+
 Status check(const VisibilityOptions& options) {
   for (const Vec3& v : options.views) {
-    if (!v.allFinite() || v.norm() == 0) return make_error(ErrorCode::kInvalidArgument, "a view direction must be finite and non-zero");
+    if (!v.allFinite() || v.cwiseAbs().maxCoeff() == 0) {
+      return make_error(ErrorCode::kInvalidArgument, "a view direction must be finite and non-zero");
+    }
   }
   if (options.ambient_occlusion && (options.ao_rays < 1 || options.ao_rays > 1024)) {
     return make_error(ErrorCode::kInvalidArgument, "ao_rays must be 1..1024");
@@ -157,7 +167,7 @@ Result<Visibility> compute_visibility(const HalfedgeMesh& mesh, const Visibility
   if (!device) return make_error(ErrorCode::kSolverFailed, "Embree could not start a device");
   SEAM_TRY(Scene scene, build_scene(device.get(), mesh));
   FaceRays rays{mesh, scene.get(), {}, {}, 1e-5 * diagonal, options.ao_distance * diagonal};
-  for (const Vec3& v : options.views) rays.views.push_back(-v.normalized());
+  for (const Vec3& v : options.views) rays.views.push_back(-unit_direction(v));
   if (options.ambient_occlusion) rays.pattern = hemisphere(options.ao_rays);
 
   const std::size_t faces = mesh.num_faces();

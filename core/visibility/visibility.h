@@ -14,8 +14,9 @@
 namespace seam::core {
 
 struct VisibilityOptions {
-  /// Directions in which orthographic cameras look (from infinity); need not be unit length,
-  /// must be finite and non-zero.
+  /// Directions in which orthographic cameras look (from infinity); need not be unit length
+  /// (any finite magnitude, 1e-300 to 1e300, is scaled before normalising), must be finite
+  /// and not exactly zero.
   std::vector<Vec3> views;
   /// Also measure each face's openness (ambient occlusion): the fraction of `ao_rays` rays in
   /// its cosine-weighted hemisphere that leave without hitting the mesh within `ao_distance`.

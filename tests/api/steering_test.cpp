@@ -9,6 +9,7 @@
 #include "api/gltf_reader.h"
 #include "api/gltf_writer.h"
 #include "api/pipeline.h"
+#include "api/sample_mesh.h"
 #include "test_data.h"
 
 namespace seam_steering_test {
@@ -107,6 +108,29 @@ TEST_CASE("hide_from: the view that sees most of the default seam sees much less
   // hide_strength 0 changes nothing.
   const json zero = run_ok(*glb, {{"hide_from", {worst_view}}, {"hide_strength", 0}});
   CHECK(zero["seam"]["edges"] == plain["seam"]["edges"]);
+}
+
+TEST_CASE("hide_from: a huge or tiny finite direction steers exactly like its unit direction") {
+  // [[1e200, 1e200, 1e200]] used to overflow while normalising: nothing was seen, the seam
+  // was not steered and cost == length; [[1e-200, ...]] underflowed and was refused.
+  auto glb = sample_glb();
+  REQUIRE(glb.ok());
+  const json unit = run_ok(*glb, {{"hide_from", {{1, 1, 1}}}});
+  CHECK(unit["seam"]["visible_length"].get<double>() > 0);
+  CHECK(unit["seam"]["cost"].get<double>() > unit["seam"]["length"].get<double>());
+  for (const double scale : {1e200, 1e-200, 1e308}) {
+    CAPTURE(scale);
+    const json scaled = run_ok(*glb, {{"hide_from", {{scale, scale, scale}}}});
+    CHECK(scaled["seam"]["edges"] == unit["seam"]["edges"]);
+    CHECK(scaled["seam"]["visible_length"] == unit["seam"]["visible_length"]);
+    CHECK(scaled["seam"]["cost"] == unit["seam"]["cost"]);
+  }
+  for (const json& bad : {json{{0, 0, 0}}, json{{0.0, -0.0, 0}}}) {
+    auto p = params_from_json({{"hide_from", {bad}}});
+    REQUIRE(!p.ok());
+    CHECK(p.error().code == ApiErrorCode::kInvalidParameter);
+    CHECK(p.error().details["parameter"] == "hide_from");
+  }
 }
 
 TEST_CASE("method optimal minimises the weighted length: no method costs less, extrema leaves") {

@@ -4,6 +4,8 @@
 
 #include <doctest/doctest.h>
 
+#include <limits>
+
 #include "core/mesh/halfedge_mesh.h"
 #include "fixture_mesh.h"
 #include "fixtures.h"
@@ -90,6 +92,24 @@ TEST_CASE("hiding multipliers: seen edges cost 1 + strength, unseen 1, silhouett
     const double z = std::min(cube.position(cube.tail(h)).z(), cube.position(cube.head(h)).z());
     CHECK(m[e] == doctest::Approx(z == 1.0 ? 5.0 : 1.0));  // edges of the top square cost 5
   }
+}
+
+TEST_CASE("a view direction of any finite magnitude sees what its unit vector sees") {
+  // (1e200, 1e200, 1e200) overflowed the squared norm (the view saw nothing) and
+  // (1e-200, 1e-200, 1e-200) underflowed it (refused as zero).
+  const HalfedgeMesh cube = fixtures::build_fixture(fixtures::voxel_surface({{0, 0, 0}}));
+  auto unit = compute_visibility(cube, VisibilityOptions{{Vec3(-1, -1, -1)}});
+  REQUIRE(unit.ok());
+  for (const double scale : {1e200, 1e-200, 1e300, 1e-310}) {
+    CAPTURE(scale);
+    auto scaled = compute_visibility(cube, VisibilityOptions{{Vec3(-scale, -scale, -scale)}});
+    REQUIRE(scaled.ok());
+    for (std::uint32_t f = 0; f < cube.num_faces(); ++f) CHECK(scaled->seen[FaceId(f)] == unit->seen[FaceId(f)]);
+  }
+  const double max = std::numeric_limits<double>::max();
+  auto largest = compute_visibility(cube, VisibilityOptions{{Vec3(-max, -max, -max)}});
+  REQUIRE(largest.ok());
+  for (std::uint32_t f = 0; f < cube.num_faces(); ++f) CHECK(largest->seen[FaceId(f)] == unit->seen[FaceId(f)]);
 }
 
 TEST_CASE("bad views are refused") {
