@@ -11,6 +11,7 @@ std::string_view code_name(ApiErrorCode code) {
     case ApiErrorCode::kMalformedAsset: return "malformed_asset";
     case ApiErrorCode::kNotFound: return "not_found";
     case ApiErrorCode::kMethodNotAllowed: return "method_not_allowed";
+    case ApiErrorCode::kNotAcceptable: return "not_acceptable";
     case ApiErrorCode::kRequestTimeout: return "request_timeout";
     case ApiErrorCode::kLengthRequired: return "length_required";
     case ApiErrorCode::kPayloadTooLarge: return "payload_too_large";
@@ -48,6 +49,7 @@ int http_status(ApiErrorCode code) {
     case ApiErrorCode::kMalformedAsset: return 400;
     case ApiErrorCode::kNotFound: return 404;
     case ApiErrorCode::kMethodNotAllowed: return 405;
+    case ApiErrorCode::kNotAcceptable: return 406;
     case ApiErrorCode::kRequestTimeout: return 408;
     case ApiErrorCode::kLengthRequired: return 411;
     case ApiErrorCode::kPayloadTooLarge: return 413;

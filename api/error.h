@@ -16,9 +16,10 @@ enum class ApiErrorCode {
   kMalformedRequest,    // bad multipart, bad JSON, bad base64, missing part
   kInvalidParameter,    // a parameter has the wrong type or an unknown value
   kMalformedAsset,      // malformed glTF/GLB/Draco/OFF/OBJ bytes or structure
-  // 404 / 405: routing.
+  // 404 / 405 / 406: routing and negotiation.
   kNotFound,
   kMethodNotAllowed,
+  kNotAcceptable,            // Accept refuses JSON (q=0) and accepts no other format we make
   // 408 / 411 / 413 / 415 / 431: HTTP framing, enforced before the handler reads the body.
   kRequestTimeout,            // the request did not arrive whole within --request-timeout-s
   kLengthRequired,            // a POST with neither Content-Length nor chunked framing

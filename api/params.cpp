@@ -290,6 +290,7 @@ const std::vector<std::pair<std::string, Setter>>& parameter_setters() {
          SEAM_TRY(p.output, choice<OutputFormat>(v, "output",
                                                  {{"json", OutputFormat::kJson}, {"glb", OutputFormat::kGlb}, {"svg", OutputFormat::kSvg}},
                                                  "output must be \"json\", \"glb\" or \"svg\""));
+         p.output_given = true;
          return core::Ok{};
        }},
       {"draco", [](SeamParams& p, const json& v) -> ApiStatus { SEAM_TRY(p.draco, boolean(v, "draco")); return core::Ok{}; }},

@@ -76,6 +76,8 @@ struct SeamParams {
   /// nullopt = "none"; the default is the core's default (the lowest-distortion flip-free method).
   std::optional<core::UvMethod> uv = core::UvOptions{}.method;
   OutputFormat output = OutputFormat::kJson;
+  /// The request named `output`: then it wins over an Accept header (server::choose_output).
+  bool output_given = false;
   std::optional<bool> draco;  ///< nullopt = as each primitive was in the input
   /// Skeleton only: the local re-optimisation after §4.4 (core::SeamOptions::refine).
   bool refine = core::SeamOptions{}.refine;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cctype>
+#include <cstdlib>
 
 #include "api/base64.h"
 #include "api/json_limits.h"
@@ -106,22 +107,50 @@ api::ApiResult<api::SeamParams> parse_query_params(const std::vector<std::pair<s
   return api::params_from_query(query);
 }
 
-bool accepts_glb(std::string_view accept) {
+std::optional<double> accept_quality(std::string_view accept, std::string_view media) {
   std::size_t start = 0;
   while (start <= accept.size()) {
     const auto comma = accept.find(',', start);
     const auto item = accept.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
-    if (media_type(item) == "model/gltf-binary") {
-      // "q=0" means "not acceptable" (RFC 9110 §12.4.2).
-      const auto q = item.find("q=");
-      if (q == std::string_view::npos) return true;
-      const auto qv = trim(item.substr(q + 2));
-      return !(qv == "0" || qv == "0.0" || qv == "0.00" || qv == "0.000");
+    if (media_type(item) == media) {
+      // The media type's parameters: only q counts. A q that does not parse counts as 1, the
+      // default (a client that meant to refuse writes q=0).
+      double q = 1.0;
+      for (auto semi = item.find(';'); semi != std::string_view::npos;) {
+        const auto next = item.find(';', semi + 1);
+        const auto param =
+            trim(item.substr(semi + 1, next == std::string_view::npos ? std::string_view::npos : next - semi - 1));
+        if (param.size() > 2 && (param[0] == 'q' || param[0] == 'Q') && param[1] == '=') {
+          const std::string value(trim(param.substr(2)));
+          char* end = nullptr;
+          const double parsed = std::strtod(value.c_str(), &end);
+          if (end != value.c_str() && *end == '\0' && parsed >= 0 && parsed <= 1) q = parsed;
+        }
+        semi = next;
+      }
+      return q;
     }
     if (comma == std::string_view::npos) break;
     start = comma + 1;
   }
-  return false;
+  return std::nullopt;
+}
+
+bool accepts_glb(std::string_view accept) {
+  return accept_quality(accept, "model/gltf-binary").value_or(0) > 0;
+}
+
+api::ApiResult<api::OutputFormat> choose_output(const api::SeamParams& params, std::string_view accept) {
+  if (params.output_given) return params.output;
+  if (accepts_glb(accept)) return api::OutputFormat::kGlb;
+  if (accept_quality(accept, "image/svg+xml").value_or(0) > 0) return api::OutputFormat::kSvg;
+  if (accept_quality(accept, "application/json") == 0.0) {
+    return make_api_error(ApiErrorCode::kNotAcceptable,
+                          "Accept refuses application/json (q=0) and accepts neither model/gltf-binary nor "
+                          "image/svg+xml; accept one of them, or name the format with the output parameter",
+                          {{"acceptable", {"application/json", "model/gltf-binary", "image/svg+xml"}}});
+  }
+  return api::OutputFormat::kJson;
 }
 
 api::ApiError unsupported_media_type(std::string_view media) {

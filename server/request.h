@@ -66,7 +66,19 @@ api::ApiResult<api::SeamParams> parse_params_part(std::string_view text);
 /// Query parameters (`?extrema=1,2&method=mst`); an empty list gives the defaults.
 api::ApiResult<api::SeamParams> parse_query_params(const std::vector<std::pair<std::string, std::string>>& query);
 
+/// The q value `accept` (an Accept header) gives the exact media type `media` (lower case),
+/// 0..1; 1 when it is listed without q or with a q that does not parse; nullopt when it is not
+/// listed. Wildcards (`*/*`, `model/*`) are not expanded. O(accept).
+std::optional<double> accept_quality(std::string_view accept, std::string_view media);
+
 /// True when an Accept header asks for the binary asset (model/gltf-binary listed with q > 0).
 bool accepts_glb(std::string_view accept);
+
+/// The response format of POST /seam. An explicit `output` parameter wins whatever Accept
+/// says; without one, Accept chooses: model/gltf-binary with q > 0 gives GLB, else
+/// image/svg+xml with q > 0 gives SVG, else JSON (also for Accept types we cannot produce, so
+/// `text/html` or `*/*` still get JSON). Errors: kNotAcceptable (406) when Accept refuses
+/// application/json with q=0 and accepts neither other format. O(accept).
+api::ApiResult<api::OutputFormat> choose_output(const api::SeamParams& params, std::string_view accept);
 
 }  // namespace seam::server

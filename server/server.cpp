@@ -64,23 +64,6 @@ bool acceptable_request_id(const std::string& id) {
   return true;
 }
 
-// Accept names image/svg+xml with q > 0 (the SVG UV layout instead of JSON).
-bool accepts_svg(std::string_view accept) {
-  std::size_t start = 0;
-  while (start <= accept.size()) {
-    const auto comma = accept.find(',', start);
-    const auto item = accept.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
-    if (media_type(item) == kSvgType) {
-      const auto q = item.find("q=");
-      if (q == std::string_view::npos) return true;
-      return std::strtod(std::string(item.substr(q + 2)).c_str(), nullptr) > 0.0;
-    }
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
-  return false;
-}
-
 double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
@@ -273,9 +256,9 @@ struct Server::Impl {
     if (request.asset.empty()) {
       return send_error(req, res, make_api_error(ApiErrorCode::kMalformedRequest, "the request carries no asset bytes"));
     }
-    const auto accept = req.get_header_value("Accept");
-    if (accepts_glb(accept)) request.params.output = api::OutputFormat::kGlb;
-    else if (accepts_svg(accept)) request.params.output = api::OutputFormat::kSvg;
+    auto format = choose_output(request.params, req.get_header_value("Accept"));
+    if (!format.ok()) return send_error(req, res, format.error());
+    request.params.output = *format;
     if (draining) {
       res.set_header("Retry-After", std::to_string(config.retry_after_s));
       return send_error(req, res, make_api_error(ApiErrorCode::kQueueFull, "the server is shutting down; retry on another replica"));
@@ -362,7 +345,7 @@ struct Server::Impl {
     return admitted;
   }
 
-  // The job's answer in the format the request asked for (params.output, or Accept).
+  // The job's answer in the format the request asked for (choose_output: params.output, or Accept).
   static void send_output(httplib::Response& res, api::OutputFormat format, api::PipelineOutput& output) {
     res.status = 200;
     if (format == api::OutputFormat::kSvg) {

@@ -26,6 +26,40 @@ TEST_CASE("media types and Accept negotiation") {
   CHECK(!accepts_glb("*/*"));
   CHECK(!accepts_glb("application/json"));
   CHECK(!accepts_glb(""));
+  CHECK(!accepts_glb("model/gltf-binary; q=0.000"));
+  CHECK(!accepts_glb("model/gltf-binary;Q=0"));
+  CHECK(accepts_glb("model/gltf-binary;q=nonsense"));  // an unparsable q is the default, 1
+
+  CHECK(accept_quality("application/json;q=0.5", "application/json") == 0.5);
+  CHECK(accept_quality("text/html, application/json", "application/json") == 1.0);
+  CHECK(!accept_quality("*/*", "application/json").has_value());
+}
+
+TEST_CASE("choose_output: an explicit output wins, Accept chooses without one") {
+  using seam::api::OutputFormat;
+  seam::api::SeamParams none;
+  CHECK(*choose_output(none, "") == OutputFormat::kJson);
+  CHECK(*choose_output(none, "*/*") == OutputFormat::kJson);
+  CHECK(*choose_output(none, "model/gltf-binary") == OutputFormat::kGlb);
+  CHECK(*choose_output(none, "image/svg+xml") == OutputFormat::kSvg);
+  CHECK(*choose_output(none, "image/svg+xml, model/gltf-binary") == OutputFormat::kGlb);
+  CHECK(*choose_output(none, "image/svg+xml;q=0") == OutputFormat::kJson);
+  CHECK(*choose_output(none, "application/json;q=0, image/svg+xml") == OutputFormat::kSvg);
+  CHECK(choose_output(none, "application/json;q=0").error().code == ApiErrorCode::kNotAcceptable);
+  CHECK(choose_output(none, "application/json;q=0, image/svg+xml;q=0").error().code == ApiErrorCode::kNotAcceptable);
+
+  for (const auto& [given, accept] :
+       {std::pair{"json", "model/gltf-binary"}, std::pair{"glb", "image/svg+xml"},
+        std::pair{"svg", "model/gltf-binary"}, std::pair{"json", "application/json;q=0"}}) {
+    CAPTURE(given);
+    CAPTURE(accept);
+    auto params = seam::api::params_from_json({{"output", given}});
+    REQUIRE(params.ok());
+    CHECK(params->output_given);
+    auto chosen = choose_output(*params, accept);
+    REQUIRE(chosen.ok());
+    CHECK(*chosen == params->output);
+  }
 }
 
 TEST_CASE("the JSON request form") {

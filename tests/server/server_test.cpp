@@ -236,6 +236,37 @@ TEST_CASE("the three request forms and both output formats reach the job") {
     REQUIRE(refused);
     CHECK(refused->get_header_value("Content-Type") == "application/json");
   }
+  SUBCASE("an explicit output parameter wins over Accept, which only chooses without one") {
+    // Accept used to override ?output: JSON asked for by name came back as GLB, GLB as SVG.
+    auto json_wins = cli->Post("/seam?output=json", {{"Accept", "model/gltf-binary"}}, "ok:j", "model/gltf-binary");
+    REQUIRE(json_wins);
+    CHECK(json_wins->status == 200);
+    CHECK(json_wins->get_header_value("Content-Type") == "application/json");
+    CHECK(parse(json_wins->body)["glb"] == false);
+    auto glb_wins = cli->Post("/seam?output=glb", {{"Accept", "image/svg+xml"}}, "ok:g", "model/gltf-binary");
+    REQUIRE(glb_wins);
+    CHECK(glb_wins->get_header_value("Content-Type") == "model/gltf-binary");
+    CHECK(glb_wins->body == "glTF-scripted:g");
+    auto json_refused =
+        cli->Post("/seam?output=json", {{"Accept", "application/json;q=0"}}, "ok:k", "model/gltf-binary");
+    REQUIRE(json_refused);
+    CHECK(json_refused->status == 200);
+    CHECK(json_refused->get_header_value("Content-Type") == "application/json");
+  }
+  SUBCASE("Accept with application/json at q=0 and nothing else acceptable is a 406") {
+    for (const char* accept : {"application/json;q=0", "application/json; q=0.000, model/gltf-binary;q=0",
+                               "text/html, application/json;Q=0"}) {
+      CAPTURE(accept);
+      auto r = cli->Post("/seam", {{"Accept", accept}}, "ok:n", "model/gltf-binary");
+      REQUIRE(r);
+      CHECK(r->status == 406);
+      CHECK(parse(r->body)["error"]["code"] == "not_acceptable");
+    }
+    auto glb = cli->Post("/seam", {{"Accept", "application/json;q=0, model/gltf-binary"}}, "ok:b", "model/gltf-binary");
+    REQUIRE(glb);
+    CHECK(glb->status == 200);
+    CHECK(glb->get_header_value("Content-Type") == "model/gltf-binary");
+  }
 }
 
 TEST_CASE("every client error status of the contract, as a JSON error body") {
