@@ -8,6 +8,7 @@ using api::make_api_error;
 api::ApiResult<SeamRequest> decode_seam_request(const httplib::Request& req) {
   const std::string content_type = req.get_header_value("Content-Type");  // parts views it
   SeamRequestParts parts{.content_type = content_type, .query = {req.params.begin(), req.params.end()}, .body = req.body};
+  for (const auto& [name, part] : req.files) parts.part_names.push_back(name);
   if (const auto it = req.files.find("mesh"); it != req.files.end()) {
     parts.mesh = FormPart{it->second.content, it->second.content_type};
   }

@@ -1,5 +1,6 @@
 #include "server/request.h"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cstdlib>
@@ -162,11 +163,39 @@ api::ApiError unsupported_media_type(std::string_view media) {
                              {{"content_type", shown}});
 }
 
+namespace {
+
+// Unknown parameters are refused, not ignored (api/params.h); so is a part the service would
+// not read: `-F parms=...` used to run with the defaults, a second params or mesh part lost.
+std::optional<api::ApiError> check_part_names(const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    const std::string shown = name.substr(0, 60);  // client bytes: bounded in the answer
+    if (name != "mesh" && name != "params") {
+      return make_api_error(ApiErrorCode::kMalformedRequest,
+                            "multipart part \"" + shown +
+                                "\" is not one the service reads: send the asset as part \"mesh\" and the "
+                                "parameters as one JSON object in part \"params\"",
+                            {{"part", shown}});
+    }
+    const auto count = std::count(names.begin(), names.end(), name);
+    if (count > 1) {
+      return make_api_error(ApiErrorCode::kMalformedRequest,
+                            "multipart part \"" + name + "\" is given " + std::to_string(count) +
+                                " times; send it once (put every parameter in one params object)",
+                            {{"part", name}, {"count", count}});
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 api::ApiResult<SeamRequest> decode_seam_request(const SeamRequestParts& parts) {
   using api::ApiErrorCode;
   using api::make_api_error;
   const auto media = media_type(parts.content_type);
   if (media == "multipart/form-data") {
+    if (auto refused = check_part_names(parts.part_names)) return *refused;
     if (!parts.mesh) {
       return make_api_error(ApiErrorCode::kMalformedRequest,
                             "multipart request without a 'mesh' part: curl -F mesh=@asset.glb ...");

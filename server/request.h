@@ -42,12 +42,17 @@ struct SeamRequestParts {
   std::string_view body;                ///< the raw body (forms 2 and 3)
   std::optional<FormPart> mesh;         ///< multipart "mesh" part (form 1)
   std::optional<FormPart> params;       ///< multipart "params" part (form 1)
+  /// The name of every part of a multipart body, one entry per part (so a name sent twice
+  /// appears twice): anything but one `mesh` and at most one `params` is refused.
+  std::vector<std::string> part_names;
 };
 
 /// The three request forms of API.md, chosen by the Content-Type: multipart (mesh part, params
 /// part or query), JSON body (no query), or the asset as the body (query parameters).
-/// Errors: kMalformedRequest (no mesh part, bad JSON or base64), kInvalidParameter (params in
-/// two places, bad values), kUnsupportedMediaType (another Content-Type). O(body).
+/// Errors: kMalformedRequest (no mesh part; a part named other than mesh or params, or a
+/// mesh or params part given twice, with details.part naming it; bad JSON or base64),
+/// kInvalidParameter (params in two places, bad values), kUnsupportedMediaType (another
+/// Content-Type). O(body).
 api::ApiResult<SeamRequest> decode_seam_request(const SeamRequestParts& parts);
 
 /// The 415 for a media type POST /seam does not take (also used before the body is read).

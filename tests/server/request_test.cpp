@@ -140,4 +140,28 @@ TEST_CASE("JSON nested 100,000 deep is a 400 in every request entry point, and d
   CHECK(parse_params_part(params_65).error().code == ApiErrorCode::kMalformedRequest);
 }
 
+TEST_CASE("multipart: part names other than one mesh and at most one params are a 400 naming the part") {
+  const SeamRequestParts ok{.content_type = "multipart/form-data; boundary=x",
+                            .mesh = FormPart{"glTF", ""},
+                            .params = FormPart{"{}", ""},
+                            .part_names = {"mesh", "params"}};
+  CHECK(decode_seam_request(ok).ok());
+  struct Bad {
+    std::vector<std::string> names;
+    const char* part;
+  };
+  for (const auto& b : {Bad{{"mesh", "parms"}, "parms"}, Bad{{"mesh", "params", "params"}, "params"},
+                        Bad{{"mesh", "mesh"}, "mesh"}, Bad{{"mesh", std::string(300, 'x')}, ""}}) {
+    CAPTURE(b.names.back().substr(0, 20));
+    SeamRequestParts parts = ok;
+    parts.part_names = b.names;
+    auto r = decode_seam_request(parts);
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == ApiErrorCode::kMalformedRequest);
+    const auto part = r.error().details["part"].get<std::string>();
+    if (*b.part) CHECK(part == b.part);
+    CHECK(part.size() <= 60);
+  }
+}
+
 }  // namespace seam_request_test

@@ -205,6 +205,30 @@ TEST_CASE("the three request forms and both output formats reach the job") {
     CHECK(j["echo"] == "multi");
     CHECK(j["method"] == static_cast<int>(seam::core::SeamMethod::kGreedy));
   }
+  SUBCASE("multipart parts other than one mesh and one params are refused, naming the part") {
+    // They were ignored: a misspelt params part ran with the defaults, a second params or
+    // mesh part was dropped unseen.
+    struct Refused {
+      const char* name;
+      httplib::MultipartFormDataItems items;
+      const char* part;
+    };
+    const httplib::MultipartFormDataItems::value_type mesh{"mesh", "ok:m", "a.glb", "application/octet-stream"};
+    const httplib::MultipartFormDataItems::value_type params{"params", R"({"method":"greedy"})", "",
+                                                             "application/json"};
+    for (const auto& c : {Refused{"misspelt params", {mesh, {"parms", R"({"method":"mst"})", "", ""}}, "parms"},
+                          Refused{"two params", {mesh, params, {"params", R"({"method":"mst"})", "", ""}}, "params"},
+                          Refused{"two meshes", {mesh, {"mesh", "ok:n", "b.glb", ""}, params}, "mesh"},
+                          Refused{"a parameter as a part", {mesh, {"extrema", "1,2", "", ""}}, "extrema"}}) {
+      CAPTURE(c.name);
+      auto r = cli->Post("/seam", c.items);
+      REQUIRE(r);
+      CHECK(r->status == 400);
+      const auto j = parse(r->body);
+      CHECK(j["error"]["code"] == "malformed_request");
+      CHECK(j["error"]["details"]["part"] == c.part);
+    }
+  }
   SUBCASE("JSON body with base64 GLB") {
     const nlohmann::json body = {{"mesh", {{"glb_base64", seam::api::encode_base64("ok:b64")}}},
                                  {"method", "mst"}};
