@@ -20,6 +20,7 @@ std::string_view code_name(ApiErrorCode code) {
     case ApiErrorCode::kNoTrianglePrimitive: return "no_triangle_primitive";
     case ApiErrorCode::kUnsupportedPrimitiveMode: return "unsupported_primitive_mode";
     case ApiErrorCode::kExternalUri: return "external_uri";
+    case ApiErrorCode::kUnsupportedExtension: return "unsupported_extension";
     case ApiErrorCode::kExtremumOutOfRange: return "extremum_out_of_range";
     case ApiErrorCode::kMeshTooLarge: return "mesh_too_large";
     case ApiErrorCode::kEmptyMesh: return "empty_mesh";
@@ -58,6 +59,7 @@ int http_status(ApiErrorCode code) {
     case ApiErrorCode::kNoTrianglePrimitive:
     case ApiErrorCode::kUnsupportedPrimitiveMode:
     case ApiErrorCode::kExternalUri:
+    case ApiErrorCode::kUnsupportedExtension:
     case ApiErrorCode::kExtremumOutOfRange:
     case ApiErrorCode::kMeshTooLarge:
     case ApiErrorCode::kEmptyMesh:

@@ -30,6 +30,7 @@ enum class ApiErrorCode {
   kNoTrianglePrimitive,       // mesh/primitive index missing, or not triangles
   kUnsupportedPrimitiveMode,  // points or lines
   kExternalUri,               // a buffer or image URI that is not a data URI
+  kUnsupportedExtension,      // extensionsRequired names an extension the reader cannot honour
   kExtremumOutOfRange,        // an extremum index >= the primitive's vertex count
   kMeshTooLarge,              // more faces than the configured limit
   kEmptyMesh,

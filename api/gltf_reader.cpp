@@ -1,9 +1,11 @@
 #include "api/gltf_reader.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <string_view>
 
 #include "api/base64.h"
 #include "api/draco_io.h"
@@ -344,6 +346,30 @@ double component_as_double(const std::uint8_t* p, int component_type, bool norma
   }
 }
 
+// glTF 2.0 §3.12: "If a glTF contains a required extension that is not supported, the loader
+// must fail." EXT_meshopt_compression's bufferViews, say, hold compressed bytes: read as plain
+// ones they would give a garbage mesh, and the output would still require the extension.
+ApiResult<core::Ok> check_required_extensions(const json& root) {
+  const auto it = root.find("extensionsRequired");
+  if (it == root.end()) return core::Ok{};
+  if (!it->is_array()) return malformed_asset("extensionsRequired must be an array of extension names");
+  json unsupported = json::array();
+  for (const auto& e : *it) {
+    if (!e.is_string()) return malformed_asset("extensionsRequired must be an array of extension names");
+    const auto& name = e.get_ref<const std::string&>();
+    if (!supported_required_extension(name) && unsupported.size() < 16) unsupported.push_back(name.substr(0, 60));
+  }
+  if (unsupported.empty()) return core::Ok{};
+  std::string message =
+      "the asset requires extension " + unsupported[0].get<std::string>() +
+      (unsupported.size() > 1 ? " (and " + std::to_string(unsupported.size() - 1) + " more)" : "") +
+      ", which this service cannot read; supported when required: KHR_draco_mesh_compression, "
+      "KHR_mesh_quantization, and material, texture, light and instancing extensions it passes through "
+      "(api/README.md)";
+  return make_api_error(ApiErrorCode::kUnsupportedExtension, std::move(message),
+                        {{"extensions", std::move(unsupported)}});
+}
+
 ApiResult<GltfDocument> parse_json_document(std::string_view text, const ReadLimits& limits) {
   if (text.size() > limits.max_json_bytes) return malformed_asset("the glTF JSON is larger than the limit");
   // The client's JSON: depth is checked while parsing (the writer dumps this document later).
@@ -362,6 +388,8 @@ ApiResult<GltfDocument> parse_json_document(std::string_view text, const ReadLim
     const auto it = doc.json.find(key);
     if (it != doc.json.end() && !it->is_array()) return malformed_asset(std::string("'") + key + "' must be an array");
   }
+  SEAM_TRY(const core::Ok required, check_required_extensions(doc.json));
+  (void)required;
   return doc;
 }
 
@@ -529,6 +557,15 @@ ApiResult<GltfDocument> parse_raw_draco(std::string_view bytes, const ReadLimits
 }  // namespace
 
 std::size_t AttributeArray::component_size() const { return component_size_of(component_type); }
+
+bool supported_required_extension(std::string_view name) {
+  static constexpr std::array<std::string_view, 10> kSupported = {
+      "KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform", "KHR_texture_basisu",
+      "EXT_texture_webp",           "EXT_texture_avif",      "KHR_lights_punctual",   "EXT_mesh_gpu_instancing",
+      "KHR_animation_pointer",      "KHR_xmp_json_ld"};
+  if (name.starts_with("KHR_materials_")) return true;
+  return std::find(kSupported.begin(), kSupported.end(), name) != kSupported.end();
+}
 
 AssetKind detect_asset_kind(std::string_view bytes) {
   if (bytes.size() >= 4 && read_u32(bytes.data()) == kGlbMagic) return AssetKind::kGlb;

@@ -88,9 +88,23 @@ AssetKind detect_asset_kind(std::string_view bytes);
 /// URIs or the GLB BIN chunk; any other URI is kExternalUri and is never read), image URIs,
 /// every bufferView's range, and every accessor's, sparse block's and Draco extension's
 /// references and byte ranges. A raw Draco mesh becomes a one-primitive document.
-/// Errors: kMalformedAsset (400, names the offending object), kExternalUri (422).
+/// `extensionsRequired` may only name extensions supported_required_extension() accepts
+/// (glTF 2.0 §3.12: a loader must refuse an asset that requires one it does not support).
+/// Errors: kMalformedAsset (400, names the offending object; also an extensionsRequired that
+/// is not an array of strings), kExternalUri (422), kUnsupportedExtension (422,
+/// details.extensions: the unsupported names, at most 16 of 60 bytes each).
 /// Complexity: O(bytes).
 ApiResult<GltfDocument> parse_asset(std::string_view bytes, AssetKind kind, const ReadLimits& limits = {});
+
+/// Whether an asset may list `name` in extensionsRequired. The reader decodes
+/// KHR_draco_mesh_compression and KHR_mesh_quantization; the extensions that do not change a
+/// primitive's geometry and that the service carries through untouched (materials and
+/// textures: KHR_materials_*, KHR_texture_transform, KHR_texture_basisu, EXT_texture_webp,
+/// EXT_texture_avif; scene-level: KHR_lights_punctual, EXT_mesh_gpu_instancing,
+/// KHR_animation_pointer, KHR_xmp_json_ld) are honoured by the clients that read our output,
+/// as they would be by readers of the input. Anything else (EXT_meshopt_compression, whose
+/// buffer views we cannot read; unknown names) is refused. O(1).
+bool supported_required_extension(std::string_view name);
 
 /// Reads primitive `primitive` of mesh `mesh`. Node transforms are not applied.
 /// Errors: kNoTrianglePrimitive (indices out of range), kUnsupportedPrimitiveMode (points or

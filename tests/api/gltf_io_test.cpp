@@ -324,6 +324,39 @@ TEST_CASE("hostile inputs get their exact error code") {
       CHECK(read_error(with([&](json& x, auto&) { x["images"] = {{{"uri", uri}}}; })) == ApiErrorCode::kExternalUri);
     }
   }
+  SUBCASE("a required extension the reader does not support is a 422 naming it") {
+    // glTF 2.0 §3.12: a loader must fail on one. It used to be read and passed through.
+    for (const std::string name : {"EXT_foo", "EXT_meshopt_compression"}) {
+      CAPTURE(name);
+      auto doc = parse_asset(with([&](json& x, auto&) {
+                               x["extensionsUsed"] = {name};
+                               x["extensionsRequired"] = {name};
+                             }),
+                             AssetKind::kAuto);
+      REQUIRE(!doc.ok());
+      CHECK(doc.error().code == ApiErrorCode::kUnsupportedExtension);
+      CHECK(doc.error().details["extensions"] == json{name});
+      CHECK(doc.error().message.find(name) != std::string::npos);
+    }
+    auto several = parse_asset(with([](json& x, auto&) {
+                                 x["extensionsRequired"] = {"KHR_mesh_quantization", "EXT_a", "EXT_b"};
+                               }),
+                               AssetKind::kAuto);
+    REQUIRE(!several.ok());
+    CHECK(several.error().details["extensions"] == json{"EXT_a", "EXT_b"});
+    // Supported (decoded) or passed through without touching geometry: accepted when required.
+    for (const std::string name : {"KHR_mesh_quantization", "KHR_draco_mesh_compression", "KHR_materials_unlit",
+                                   "KHR_materials_variants", "KHR_texture_transform", "KHR_texture_basisu",
+                                   "EXT_texture_webp", "KHR_lights_punctual", "EXT_mesh_gpu_instancing"}) {
+      CAPTURE(name);
+      CHECK(parse_asset(with([&](json& x, auto&) { x["extensionsRequired"] = {name}; }), AssetKind::kAuto).ok());
+    }
+    // Only used, not required: read as before.
+    CHECK(parse_asset(with([](json& x, auto&) { x["extensionsUsed"] = {"EXT_foo"}; }), AssetKind::kAuto).ok());
+    CHECK(read_error(with([](json& x, auto&) { x["extensionsRequired"] = "EXT_foo"; })) ==
+          ApiErrorCode::kMalformedAsset);
+    CHECK(read_error(with([](json& x, auto&) { x["extensionsRequired"] = {1}; })) == ApiErrorCode::kMalformedAsset);
+  }
   SUBCASE("NaN and infinite positions") {
     for (float bad_value : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
       auto bad = bin;
