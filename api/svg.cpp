@@ -176,7 +176,14 @@ std::string xml_escape(const std::string& text) {
     for (std::size_t k = 1; ok && k < len; ++k) ok = (s[i + k] & 0xC0) == 0x80;
     if (ok && len == 3) ok = !(c == 0xE0 && s[i + 1] < 0xA0) && !(c == 0xED && s[i + 1] >= 0xA0);
     if (ok && len == 4) ok = !(c == 0xF0 && s[i + 1] < 0x90) && !(c == 0xF4 && s[i + 1] >= 0x90);
-    if (ok) {
+    // U+FFFE and U+FFFF are well-formed UTF-8 but not XML 1.0 characters (its Char
+    // production: #x9 | #xA | #xD | [#x20-#xD7FF] | [#xE000-#xFFFD] | [#x10000-#x10FFFF]);
+    // surrogates were refused above, so these two are all that is left to exclude.
+    const bool xml_char = !(ok && len == 3 && c == 0xEF && s[i + 1] == 0xBF && s[i + 2] >= 0xBE);
+    if (ok && !xml_char) {
+      out += "\xEF\xBF\xBD";
+      i += len;
+    } else if (ok) {
       out.append(text, i, len);
       i += len;
     } else {

@@ -45,8 +45,9 @@ ApiResult<std::string> render_uv_svg(const std::vector<UvLayout>& layouts, const
 /// finer list. O(F log F).
 std::vector<std::array<std::uint32_t, 2>> boundary_edges(const std::vector<std::array<std::uint32_t, 3>>& triangles);
 
-/// Escapes text for an XML attribute or text node (&, <, >, ", ' ); invalid UTF-8 bytes and
-/// control characters other than tab and newline become U+FFFD, which XML allows.
+/// Escapes text for an XML attribute or text node (&, <, >, ", ' ); invalid UTF-8 bytes (one
+/// U+FFFD each), control characters other than tab and newline, and U+FFFE and U+FFFF (one
+/// U+FFFD per code point) become U+FFFD, so the result holds only XML 1.0 characters.
 std::string xml_escape(const std::string& text);
 
 }  // namespace seam::api

@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <set>
 #include <sstream>
@@ -207,6 +208,97 @@ TEST_CASE("xml_escape: markup characters, control bytes and invalid UTF-8") {
   CHECK(xml_escape(std::string("x\x01y", 3)) == "x\xEF\xBF\xBDy");
   CHECK(xml_escape("\xFF\xC3") == "\xEF\xBF\xBD\xEF\xBF\xBD");
   CHECK(xml_escape("\xED\xA0\x80") == "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");  // a UTF-16 surrogate
+}
+
+namespace {
+
+// UTF-8 encoding of any value up to 0x10FFFF, surrogates included (which is invalid UTF-8).
+std::string encode_utf8(std::uint32_t cp) {
+  std::string out;
+  if (cp < 0x80) {
+    out += static_cast<char>(cp);
+  } else if (cp < 0x800) {
+    out += static_cast<char>(0xC0 | (cp >> 6));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else if (cp < 0x10000) {
+    out += static_cast<char>(0xE0 | (cp >> 12));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else {
+    out += static_cast<char>(0xF0 | (cp >> 18));
+    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  }
+  return out;
+}
+
+// Whether `text` is valid UTF-8 made only of XML 1.0 characters (the Char production:
+// #x9 | #xA | #xD | [#x20-#xD7FF] | [#xE000-#xFFFD] | [#x10000-#x10FFFF]). An independent
+// decoder, not xml_escape's.
+bool only_xml_chars(const std::string& text) {
+  const auto* s = reinterpret_cast<const unsigned char*>(text.data());
+  for (std::size_t i = 0; i < text.size();) {
+    std::uint32_t cp = s[i];
+    std::size_t len = 1;
+    if (cp >= 0xF0)
+      len = 4, cp &= 0x07;
+    else if (cp >= 0xE0)
+      len = 3, cp &= 0x0F;
+    else if (cp >= 0xC0)
+      len = 2, cp &= 0x1F;
+    else if (cp >= 0x80)
+      return false;
+    if (i + len > text.size()) return false;
+    for (std::size_t k = 1; k < len; ++k) {
+      if ((s[i + k] & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (s[i + k] & 0x3F);
+    }
+    const std::size_t shortest = cp < 0x80 ? 1 : cp < 0x800 ? 2 : cp < 0x10000 ? 3 : 4;
+    if (len != shortest) return false;  // overlong
+    const bool ok = cp == 0x9 || cp == 0xA || cp == 0xD || (cp >= 0x20 && cp <= 0xD7FF) ||
+                    (cp >= 0xE000 && cp <= 0xFFFD) || (cp >= 0x10000 && cp <= 0x10FFFF);
+    if (!ok) return false;
+    i += len;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("xml_escape: U+FFFE, U+FFFF and every other code point XML 1.0 forbids are replaced") {
+  using seam::api::xml_escape;
+  // A mesh named with U+FFFE or U+FFFF made the SVG not well-formed XML.
+  CHECK(xml_escape("a\xEF\xBF\xBE"
+                   "b\xEF\xBF\xBF"
+                   "c") ==
+        "a\xEF\xBF\xBD"
+        "b\xEF\xBF\xBD"
+        "c");
+  CHECK(xml_escape("\xEF\xBF\xBD") == "\xEF\xBF\xBD");  // U+FFFD itself is allowed
+  for (std::uint32_t cp = 0; cp <= 0x10FFFF; ++cp) {
+    const std::string escaped = xml_escape("x" + encode_utf8(cp) + "y");
+    if (!only_xml_chars(escaped)) {
+      CAPTURE(cp);
+      FAIL("not XML 1.0 characters only");
+    }
+  }
+  // Broken sequences: truncated, overlong, beyond U+10FFFF, stray continuation bytes.
+  for (const std::string bad : {"\xEF\xBF", "\xC0\x80", "\xE0\x80\x80", "\xF4\x90\x80\x80", "\xF8\x88\x80\x80\x80",
+                                "\x80", "\xBF\xBE", "\xFE\xFF"}) {
+    CHECK(only_xml_chars(xml_escape(bad)));
+  }
+}
+
+TEST_CASE("svg: a name with code points XML forbids still gives a document of XML characters only") {
+  UvLayout layout = two_charts();
+  layout.name = std::string("body\xEF\xBF\xBE\xEF\xBF\xBF\x01\x1B\xFF\xED\xA0\x80", 16) + "<&>";
+  const auto svg = render_uv_svg({layout});
+  REQUIRE(svg.ok());
+  CHECK(only_xml_chars(svg.value()));
+  CHECK(svg.value().find("\xEF\xBF\xBE") == std::string::npos);
+  CHECK(svg.value().find("\xEF\xBF\xBF") == std::string::npos);
+  CHECK(svg.value().find("<title>body\xEF\xBF\xBD\xEF\xBF\xBD") != std::string::npos);
 }
 
 TEST_CASE("boundary_edges: edges used by one triangle, in order of first use") {
