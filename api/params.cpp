@@ -346,52 +346,121 @@ ApiResult<SeamParams> params_from_json(const json& params) {
   return out;
 }
 
+namespace {
+
+// How a query-string value becomes the JSON value it stands for.
+enum class QueryKind {
+  kString,      // method=mst
+  kIndex,       // mesh=0: decimal digits
+  kBoolean,     // true, false, 1, 0
+  kNumber,      // JSON number syntax: decimal only (0x10, inf, nan are refused)
+  kExtrema,     // auto, 12,345,678, or JSON (an array with positions, the object form)
+  kPrimitives,  // all, or JSON
+  kPack,        // true, false, 1, 0, or a JSON object
+  kJson,        // JSON (hide_from)
+};
+
+QueryKind query_kind(const std::string& key) {
+  static const std::vector<std::pair<std::string, QueryKind>> kinds = {{"mesh", QueryKind::kIndex},
+                                                                       {"primitive", QueryKind::kIndex},
+                                                                       {"draco", QueryKind::kBoolean},
+                                                                       {"refine", QueryKind::kBoolean},
+                                                                       {"repair", QueryKind::kBoolean},
+                                                                       {"hide_occluded", QueryKind::kBoolean},
+                                                                       {"weld_epsilon", QueryKind::kNumber},
+                                                                       {"hide_strength", QueryKind::kNumber},
+                                                                       {"feature_angle_deg", QueryKind::kNumber},
+                                                                       {"extrema", QueryKind::kExtrema},
+                                                                       {"primitives", QueryKind::kPrimitives},
+                                                                       {"pack", QueryKind::kPack},
+                                                                       {"hide_from", QueryKind::kJson}};
+  for (const auto& [name, kind] : kinds) {
+    if (name == key) return kind;
+  }
+  return QueryKind::kString;  // strings; unknown keys are refused by params_from_json
+}
+
+// A value in JSON syntax (URL-decoded), with the depth limit every client JSON has.
+ApiResult<json> query_json(const std::string& key, const std::string& value, const std::string& expected) {
+  auto parsed = parse_json_limited(value);
+  if (parsed.ok()) return std::move(parsed).value();
+  ApiError error = parsed.take_error();
+  json details = error.details;
+  details["parameter"] = key.substr(0, 60);
+  return make_api_error(
+      ApiErrorCode::kInvalidParameter,
+      key + " must be " + expected + " in the query string, given as JSON (URL-encoded): " + error.message,
+      std::move(details));
+}
+
+ApiResult<json> comma_separated_indices(const std::string& value) {
+  json list = json::array();
+  std::size_t start = 0;
+  while (start <= value.size()) {
+    const auto comma = value.find(',', start);
+    const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (item.empty() || item.find_first_not_of("0123456789") != std::string::npos || item.size() > 10) {
+      return invalid("extrema",
+                     "extrema must be \"auto\", comma-separated vertex indices (12,345,678) or JSON "
+                     "(an array with {\"position\": [x, y, z]} entries, or the object form)");
+    }
+    list.push_back(std::stoull(item));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return list;
+}
+
+bool json_syntax(const std::string& value) {
+  return !value.empty() && (value[0] == '[' || value[0] == '{');
+}
+
+ApiResult<json> query_value(const std::string& key, const std::string& value) {
+  const bool truthy = value == "true" || value == "1";
+  const bool falsy = value == "false" || value == "0";
+  switch (query_kind(key)) {
+    case QueryKind::kString:
+      return json(value);
+    case QueryKind::kIndex:
+      if (value.empty() || value.size() > 10 || value.find_first_not_of("0123456789") != std::string::npos) {
+        return invalid(key, key + " must be a non-negative integer");
+      }
+      return json(std::stoull(value));
+    case QueryKind::kBoolean:
+      if (truthy || falsy) return json(truthy);
+      return invalid(key, key + " must be true or false (or 1 or 0)");
+    case QueryKind::kNumber: {
+      auto number = parse_json_limited(value);
+      if (!number.ok() || !number->is_number()) {
+        return invalid(key, key + " must be a decimal number (JSON number syntax, e.g. 0.001 or 1e-3)");
+      }
+      return std::move(number).value();
+    }
+    case QueryKind::kExtrema:
+      if (value == "auto") return json("auto");
+      if (json_syntax(value)) return query_json(key, value, "an array or an object");
+      return comma_separated_indices(value);
+    case QueryKind::kPrimitives:
+      if (value == "all") return json("all");
+      return query_json(key, value, "\"all\" or an array");
+    case QueryKind::kPack:
+      if (truthy || falsy) return json(truthy);
+      return query_json(key, value, "true, false or an object");
+    case QueryKind::kJson:
+      return query_json(key, value, "an array");
+  }
+  return json(value);
+}
+
+}  // namespace
+
 ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string, std::string>>& query) {
   // Each value is turned into the JSON it stands for, then the JSON rules apply, so both
   // forms accept and refuse exactly the same things.
   json params = json::object();
   for (const auto& [key, value] : query) {
     if (params.contains(key)) return invalid(key, "parameter \"" + key.substr(0, 60) + "\" is given twice");
-    if (key == "extrema") {
-      if (value == "auto") {
-        params[key] = "auto";
-        continue;
-      }
-      json list = json::array();
-      std::size_t start = 0;
-      while (start <= value.size()) {
-        const auto comma = value.find(',', start);
-        const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (item.empty() || item.find_first_not_of("0123456789") != std::string::npos || item.size() > 10) {
-          return invalid("extrema", "extrema must be \"auto\" or comma-separated vertex indices, e.g. 12,345,678");
-        }
-        list.push_back(std::stoull(item));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-      }
-      params[key] = std::move(list);
-    } else if (key == "mesh" || key == "primitive") {
-      if (value.empty() || value.size() > 10 || value.find_first_not_of("0123456789") != std::string::npos) {
-        return invalid(key, key + " must be a non-negative integer");
-      }
-      params[key] = std::stoull(value);
-    } else if (key == "draco" || key == "refine" || key == "repair" || key == "hide_occluded") {
-      if (value == "true" || value == "1") params[key] = true;
-      else if (value == "false" || value == "0") params[key] = false;
-      else return invalid(key, key + " must be true or false");
-    } else if (key == "weld_epsilon" || key == "hide_strength" || key == "feature_angle_deg") {
-      std::size_t used = 0;
-      double d = 0;
-      try {
-        d = std::stod(value, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used == 0 || used != value.size()) return invalid(key, key + " must be a number");
-      params[key] = d;
-    } else {
-      params[key] = value;  // strings; unknown keys are refused by params_from_json
-    }
+    SEAM_TRY(params[key], query_value(key, value));
   }
   return params_from_json(params);
 }

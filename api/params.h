@@ -102,8 +102,13 @@ struct SeamParams {
 ApiResult<SeamParams> params_from_json(const nlohmann::json& params);
 
 /// Parses query-string parameters (`?extrema=12,345&method=mst&uv=none&primitives=all`);
-/// each value becomes the JSON it stands for, then params_from_json's rules apply.
-/// Errors: kInvalidParameter.
+/// each value becomes the JSON it stands for, then params_from_json's rules apply: strings as
+/// they are; `mesh`, `primitive` decimal digits; booleans true/false/1/0; numbers in JSON
+/// number syntax (decimal: 0x10, inf, nan refused); `extrema` auto, comma-separated indices
+/// or JSON; `primitives` all or JSON; `pack` true/false/1/0 or a JSON object; `hide_from`
+/// JSON. JSON values (URL-decoded) nest at most kMaxJsonDepth deep.
+/// Errors: kInvalidParameter (details.parameter; for a JSON value that does not parse also
+/// details.offset), also for a parameter given twice.
 ApiResult<SeamParams> params_from_query(const std::vector<std::pair<std::string, std::string>>& query);
 
 }  // namespace seam::api

@@ -647,6 +647,66 @@ TEST_CASE("parameters from JSON and from the query string agree") {
   }
 }
 
+TEST_CASE("the query form takes the v2 parameters as JSON, pack=false and decimal numbers only") {
+  using Query = std::vector<std::pair<std::string, std::string>>;
+  // Each pair: the query form and the JSON form it stands for give the same parameters.
+  struct Same {
+    Query query;
+    json body;
+  };
+  const json groups = {{"group_by", "mesh"}, {"texture_size", 512}};
+  for (const auto& c :
+       {Same{{{"pack", "false"}}, {{"pack", false}}}, Same{{{"pack", "0"}}, {{"pack", false}}},
+        Same{{{"pack", "true"}}, {{"pack", true}}}, Same{{{"pack", groups.dump()}}, {{"pack", groups}}},
+        Same{{{"hide_from", "[[0,0,1]]"}}, {{"hide_from", {{0, 0, 1}}}}},
+        Same{{{"primitives", R"([{"mesh":0}])"}}, {{"primitives", {{{"mesh", 0}}}}}},
+        Same{{{"primitives", "all"}}, {{"primitives", "all"}}},
+        Same{{{"extrema", R"({"auto":true,"exclude":[3],"max_count":4})"}},
+             {{"extrema", {{"auto", true}, {"exclude", {3}}, {"max_count", 4}}}}},
+        Same{{{"extrema", R"([{"position":[1,2,3]},7])"}}, {{"extrema", {{{"position", {1, 2, 3}}}, 7}}}},
+        Same{{{"weld_epsilon", "1e-3"}}, {{"weld_epsilon", 0.001}}},
+        Same{{{"hide_strength", "10"}}, {{"hide_strength", 10}}}}) {
+    CAPTURE(c.body.dump());
+    auto q = params_from_query(c.query);
+    auto j = params_from_json(c.body);
+    REQUIRE_MESSAGE(q.ok(), (q.ok() ? "" : q.error().message));
+    REQUIRE(j.ok());
+    CHECK(q->pack.enabled == j->pack.enabled);
+    CHECK(q->pack.group_by == j->pack.group_by);
+    CHECK(q->pack.texture_size == j->pack.texture_size);
+    CHECK(q->hide_from == j->hide_from);
+    CHECK(q->primitives.has_value() == j->primitives.has_value());
+    if (q->primitives && j->primitives) CHECK(q->primitives->size() == j->primitives->size());
+    CHECK(q->extrema.automatic == j->extrema.automatic);
+    CHECK(q->extrema.indices == j->extrema.indices);
+    CHECK(q->extrema.exclude == j->extrema.exclude);
+    CHECK(q->extrema.positions == j->extrema.positions);
+    CHECK(q->extrema.auto_options.max_count == j->extrema.auto_options.max_count);
+    CHECK(q->weld_epsilon == j->weld_epsilon);
+    CHECK(q->hide_strength == j->hide_strength);
+  }
+  CHECK(!params_from_query({{"pack", "false"}})->pack.enabled);
+  // Numbers are decimal: 0x10 was read as 16. Broken JSON names its parameter.
+  for (const auto& bad : std::vector<Query>{{{"weld_epsilon", "0x10"}},
+                                            {{"weld_epsilon", "inf"}},
+                                            {{"hide_strength", "NaN"}},
+                                            {{"feature_angle_deg", "+5"}, {"charts", "features"}},
+                                            {{"weld_epsilon", "1,5"}},
+                                            {{"hide_from", "[[0,0,1]"}},
+                                            {{"hide_from", "0,0,1"}},
+                                            {{"pack", "{group_by:mesh}"}},
+                                            {{"pack", "yes"}},
+                                            {{"primitives", "some"}},
+                                            {{"extrema", "[1,"}},
+                                            {{"hide_from", std::string(100, '[') + std::string(100, ']')}}}) {
+    CAPTURE(bad.front().first + "=" + bad.front().second.substr(0, 20));
+    auto r = params_from_query(bad);
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == ApiErrorCode::kInvalidParameter);
+    CHECK(r.error().details["parameter"] == bad.front().first);
+  }
+}
+
 TEST_CASE("explicit extrema beyond max_extrema are a 422 before the asset is even parsed") {
   SeamParams params;
   params.extrema.automatic = false;
