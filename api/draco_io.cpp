@@ -77,7 +77,10 @@ draco::GeometryAttribute::Type draco_semantic(const std::string& gltf_name) {
 // So memory stays O(faces) with faces <= max_faces, and attribute memory is at most
 // 3 * faces * max_draco_bytes_per_point.
 
-ApiError too_large(std::string message) { return make_api_error(ApiErrorCode::kMeshTooLarge, std::move(message)); }
+// Every mesh_too_large names its limit (details.limit) and the claimed amount (details.count).
+ApiError too_large(std::string message, std::uint64_t count, std::uint64_t limit) {
+  return make_api_error(ApiErrorCode::kMeshTooLarge, std::move(message), {{"count", count}, {"limit", limit}});
+}
 
 // A count as the bitstream version stores it: uint32 before `varint_from`, varint from it on.
 std::optional<std::uint32_t> read_count(draco::DecoderBuffer& buffer, std::uint16_t varint_from) {
@@ -119,11 +122,13 @@ std::optional<ClaimedCounts> edgebreaker_counts(draco::DecoderBuffer buffer) {
 std::optional<ApiError> check_counts(std::uint64_t faces, std::uint64_t points, const ReadLimits& limits) {
   if (faces > limits.max_faces) {
     return too_large("the Draco mesh declares " + std::to_string(faces) + " faces, more than the limit of " +
-                     std::to_string(limits.max_faces));
+                         std::to_string(limits.max_faces),
+                     faces, limits.max_faces);
   }
   if (points > limits.max_vertices || points > 3 * faces) {
     return too_large("the Draco mesh declares " + std::to_string(points) + " points for " + std::to_string(faces) +
-                     " faces (at most 3 per face and " + std::to_string(limits.max_vertices) + " in all)");
+                         " faces (at most 3 per face and " + std::to_string(limits.max_vertices) + " in all)",
+                     points, std::min<std::uint64_t>(limits.max_vertices, 3 * faces));
   }
   return std::nullopt;
 }
@@ -168,9 +173,10 @@ class BoundedMeshDecoder : public Base {
                          static_cast<std::size_t>(std::max(0, draco::DataTypeLength(a->data_type())));
     }
     if (bytes_per_point > limits_.max_draco_bytes_per_point) {
-      refusal_ = too_large("the Draco attributes take " + std::to_string(bytes_per_point) +
-                           " bytes per point, more than the limit of " +
-                           std::to_string(limits_.max_draco_bytes_per_point));
+      refusal_ =
+          too_large("the Draco attributes take " + std::to_string(bytes_per_point) +
+                        " bytes per point, more than the limit of " + std::to_string(limits_.max_draco_bytes_per_point),
+                    bytes_per_point, limits_.max_draco_bytes_per_point);
       return false;
     }
     return Base::DecodeAllAttributes();
@@ -337,12 +343,14 @@ ApiResult<DracoMesh> decode_draco(std::span<const std::uint8_t> bytes, const Rea
   DracoMesh out;
   out.num_points = mesh->num_points();
   if (mesh->num_faces() > limits.max_faces) {
-    return make_api_error(ApiErrorCode::kMeshTooLarge, "the Draco mesh has " + std::to_string(mesh->num_faces()) +
-                                                           " faces, more than the limit of " +
-                                                           std::to_string(limits.max_faces));
+    return too_large("the Draco mesh has " + std::to_string(mesh->num_faces()) + " faces, more than the limit of " +
+                         std::to_string(limits.max_faces),
+                     mesh->num_faces(), limits.max_faces);
   }
   if (out.num_points > limits.max_vertices) {
-    return make_api_error(ApiErrorCode::kMeshTooLarge, "the Draco mesh has too many points");
+    return too_large("the Draco mesh has " + std::to_string(out.num_points) + " points, more than the limit of " +
+                         std::to_string(limits.max_vertices),
+                     out.num_points, limits.max_vertices);
   }
   if (mesh->num_faces() == 0) return make_api_error(ApiErrorCode::kEmptyMesh, "the Draco mesh has no faces");
   out.triangles.reserve(mesh->num_faces());

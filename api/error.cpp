@@ -102,6 +102,7 @@ ApiError from_core(const core::Error& error) {
   }
   nlohmann::json details = nlohmann::json::object();
   if (!error.elements.empty()) details["elements"] = error.elements;
+  for (const auto& [name, value] : error.values) details[name] = value;
   return ApiError{code, error.message, std::move(details)};
 }
 

@@ -63,7 +63,8 @@ struct ApiError {
 std::string_view code_name(ApiErrorCode code);
 /// The HTTP status the contract assigns to the code.
 int http_status(ApiErrorCode code);
-/// Maps a core error (keeping its message; its elements go to details.elements).
+/// Maps a core error (keeping its message; its elements go to details.elements, its named
+/// values to details.<name>).
 ApiError from_core(const core::Error& error);
 /// The one JSON error body: {"error": {"code", "message", "details"}}.
 nlohmann::json error_body(const ApiError& error);

@@ -280,9 +280,10 @@ ApiResult<AttributeArray> read_accessor(const GltfDocument& doc, std::uint64_t i
   if (info.components > 4)
     return malformed_asset("accessor " + std::to_string(index) + " for " + name + " is a matrix");
   if (info.count > limits.max_vertices) {
-    return make_api_error(ApiErrorCode::kMeshTooLarge, "accessor " + std::to_string(index) + " declares " +
-                                                           std::to_string(info.count) + " elements, more than the limit of " +
-                                                           std::to_string(limits.max_vertices));
+    return make_api_error(ApiErrorCode::kMeshTooLarge,
+                          "accessor " + std::to_string(index) + " declares " + std::to_string(info.count) +
+                              " elements, more than the limit of " + std::to_string(limits.max_vertices),
+                          {{"count", info.count}, {"limit", limits.max_vertices}});
   }
   AttributeArray out;
   out.name = name;
@@ -801,9 +802,10 @@ ApiResult<std::vector<core::Triangle>> assemble_triangles(const std::vector<std:
   const std::size_t m = indices.size();
   const std::size_t faces = mode == 4 ? m / 3 : (m >= 3 ? m - 2 : 0);
   if (faces > limits.max_faces) {
-    return make_api_error(ApiErrorCode::kMeshTooLarge, pw + " has " + std::to_string(faces) +
-                                                           " triangles, more than the limit of " +
-                                                           std::to_string(limits.max_faces));
+    return make_api_error(
+        ApiErrorCode::kMeshTooLarge,
+        pw + " has " + std::to_string(faces) + " triangles, more than the limit of " + std::to_string(limits.max_faces),
+        {{"count", faces}, {"limit", limits.max_faces}});
   }
   std::vector<core::Triangle> out;
   out.reserve(faces);
@@ -859,8 +861,10 @@ ApiResult<PrimitiveData> read_primitive(const GltfDocument& doc, std::uint32_t m
     SEAM_TRY(out.mesh.triangles, assemble_triangles(indices, out.mode, pw, limits));
   }
   if (out.mesh.triangles.size() > limits.max_faces) {
-    return make_api_error(ApiErrorCode::kMeshTooLarge, pw + " has more triangles than the limit of " +
-                                                           std::to_string(limits.max_faces));
+    return make_api_error(ApiErrorCode::kMeshTooLarge,
+                          pw + " has " + std::to_string(out.mesh.triangles.size()) +
+                              " triangles, more than the limit of " + std::to_string(limits.max_faces),
+                          {{"count", out.mesh.triangles.size()}, {"limit", limits.max_faces}});
   }
   if (out.mesh.triangles.empty()) return make_api_error(ApiErrorCode::kEmptyMesh, pw + " has no triangles");
   return out;

@@ -34,6 +34,9 @@ struct Error {
   ErrorCode code = ErrorCode::kInvalidArgument;
   std::string message;
   std::vector<std::uint32_t> elements;
+  /// Named quantities the message states, for callers that should not parse it, e.g.
+  /// {"count", 12}, {"limit", 10} for kTooManyTerminals.
+  std::vector<std::pair<std::string, std::uint64_t>> values;
 };
 
 /// Either a value or an error (core::Error by default; api/ uses its own ApiError).

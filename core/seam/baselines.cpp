@@ -160,19 +160,28 @@ Result<SteinerTree> optimal_seam(const SearchSurface& surface, std::span<const V
   const EdgeGraph& graph = surface.graph();
   const std::size_t k = terminals.size();
   if (k > max_terminals) {
-    return make_error(ErrorCode::kTooManyTerminals,
-                      "the exact seam takes at most " + std::to_string(max_terminals) + " terminals, got " +
-                          std::to_string(k) + "; use the skeleton method or fewer extrema");
+    Error error = make_error(ErrorCode::kTooManyTerminals,
+                             "the exact seam takes at most " + std::to_string(max_terminals) + " terminals, got " +
+                                 std::to_string(k) + "; use the skeleton method or fewer extrema");
+    error.values = {{"count", k}, {"limit", max_terminals}};
+    return error;
   }
   if (auto status = validate_terminals(graph, terminals, "optimal seam"); !status.ok()) return status.take_error();
   const std::size_t nv = graph.num_vertices();
   const std::size_t m = k - 1;  // terminal k-1 is the root, added last as a leaf
   const std::size_t rows = std::size_t{1} << m;
   if (rows * nv * (sizeof(double) + sizeof(std::uint32_t)) > kMaxOptimalTableBytes) {
-    return make_error(ErrorCode::kTooManyTerminals,
-                      "the exact seam with " + std::to_string(k) + " terminals on " + std::to_string(nv) +
-                          " vertices needs more than " + std::to_string(kMaxOptimalTableBytes >> 20) +
-                          " MB; use fewer extrema or the skeleton method");
+    Error error = make_error(ErrorCode::kTooManyTerminals,
+                             "the exact seam with " + std::to_string(k) + " terminals on " + std::to_string(nv) +
+                                 " vertices needs more than " + std::to_string(kMaxOptimalTableBytes >> 20) +
+                                 " MB; use fewer extrema or the skeleton method");
+    // The terminal limit here depends on the mesh (the table's bytes are what is bounded):
+    // the most terminals whose table fits on these vertices.
+    constexpr std::size_t kRowBytes = sizeof(double) + sizeof(std::uint32_t);
+    std::size_t limit = 1;
+    while (limit < k && (std::size_t{1} << limit) * nv * kRowBytes <= kMaxOptimalTableBytes) ++limit;
+    error.values = {{"count", k}, {"limit", limit}, {"vertices", nv}, {"limit_bytes", kMaxOptimalTableBytes}};
+    return error;
   }
 
   // dp[S][v]: the shortest tree joining the terminals in S and v in which every terminal is

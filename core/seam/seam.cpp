@@ -184,10 +184,12 @@ bool leaf_tree_exists(const EdgeGraph& graph, std::span<const VertexId> terminal
 Result<MethodTree> run_method(const SearchSurface& work, std::span<const VertexId> terminals,
                               const SeamOptions& options, SeamStats& stats, const CancelToken& cancel) {
   if (options.method == SeamMethod::kOptimal && terminals.size() > options.optimal_max_terminals) {
-    return make_error(ErrorCode::kTooManyTerminals,
-                      "the optimal method takes at most " + std::to_string(options.optimal_max_terminals) +
-                          " terminals per component, this component has " + std::to_string(terminals.size()) +
-                          "; use the skeleton method or fewer extrema");
+    Error error = make_error(ErrorCode::kTooManyTerminals,
+                             "the optimal method takes at most " + std::to_string(options.optimal_max_terminals) +
+                                 " terminals per component, this component has " + std::to_string(terminals.size()) +
+                                 "; use the skeleton method or fewer extrema");
+    error.values = {{"count", terminals.size()}, {"limit", options.optimal_max_terminals}};
+    return error;
   }
   if (terminals.size() == 2) {
     // §4.1: two terminals, the seam is their shortest path (the same for every method).

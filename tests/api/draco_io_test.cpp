@@ -78,6 +78,7 @@ TEST_CASE("draco: counts are checked against the limits before anything is decod
     REQUIRE(!r.ok());
     CHECK(r.error().code == ApiErrorCode::kMeshTooLarge);
     CHECK(r.error().message == "the Draco attributes take 144 bytes per point, more than the limit of 128");
+    CHECK(r.error().details == nlohmann::json{{"count", 144}, {"limit", 128}});
     // 8 x 16 bytes is within the limit: the decoder goes on and fails on the missing values.
     many.resize(8);
     auto within = decode(sequential_payload(1000, 3000, many));
@@ -92,6 +93,7 @@ TEST_CASE("draco: counts are checked against the limits before anything is decod
     REQUIRE(!r.ok());
     CHECK(r.error().code == ApiErrorCode::kMeshTooLarge);
     CHECK(r.error().message == "the Draco mesh declares 1000 faces, more than the limit of 999");
+    CHECK(r.error().details == nlohmann::json{{"count", 1000}, {"limit", 999}});
     // 100 million faces claimed in 215 bytes: refused before draco sizes its corner table.
     reset_peak_rss();
     const double before = rss_mib();
@@ -106,6 +108,7 @@ TEST_CASE("draco: counts are checked against the limits before anything is decod
     REQUIRE(!r.ok());
     CHECK(r.error().code == ApiErrorCode::kMeshTooLarge);
     CHECK(r.error().message == "the Draco mesh declares 3001 points for 1000 faces (at most 3 per face and 20000000 in all)");
+    CHECK(r.error().details == nlohmann::json{{"count", 3001}, {"limit", 3000}});
     auto eb = decode(edgebreaker_header(4'000'000, 1'000'000));
     REQUIRE(!eb.ok());
     CHECK(eb.error().code == ApiErrorCode::kMeshTooLarge);

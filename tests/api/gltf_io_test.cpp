@@ -307,6 +307,21 @@ TEST_CASE("hostile inputs get their exact error code") {
             x["accessors"][0].erase("bufferView");
             x["accessors"][0]["count"] = 4000000000u;
           })) == ApiErrorCode::kMeshTooLarge);
+    auto unbacked = parse_asset(with([](json& x, auto&) {
+                                  x["accessors"][0].erase("bufferView");
+                                  x["accessors"][0]["count"] = 4000000000u;
+                                }),
+                                AssetKind::kAuto);
+    REQUIRE(unbacked.ok());
+    auto refused = read_primitive(*unbacked, 0, 0);
+    REQUIRE(!refused.ok());
+    CHECK(refused.error().details == json{{"count", 4000000000u}, {"limit", ReadLimits{}.max_vertices}});
+    ReadLimits few;
+    few.max_faces = 1;
+    auto two_triangles = read_primitive(*parse_asset(good, AssetKind::kAuto), 0, 0, few);
+    REQUIRE(!two_triangles.ok());
+    CHECK(two_triangles.error().code == ApiErrorCode::kMeshTooLarge);
+    CHECK(two_triangles.error().details["limit"] == 1);
   }
   SUBCASE("index out of range") {
     auto bad = bin;

@@ -573,6 +573,18 @@ TEST_CASE("pipeline errors keep their codes") {
   out = run_seam_pipeline(*glb, AssetKind::kAuto, SeamParams{}, small, core::CancelToken::none());
   REQUIRE(!out.ok());
   CHECK(out.error().code == ApiErrorCode::kMeshTooLarge);
+  CHECK(out.error().details["limit"] == 10);
+
+  // too_many_terminals says how many and how many the method takes, in details too.
+  SeamParams twelve;
+  twelve.method = core::SeamMethod::kOptimal;
+  twelve.extrema.automatic = false;
+  for (std::uint32_t v = 0; v < 12; ++v) twelve.extrema.indices.push_back(v);
+  out = run_seam_pipeline(*glb, AssetKind::kAuto, twelve, {}, core::CancelToken::none());
+  REQUIRE(!out.ok());
+  CHECK(out.error().code == ApiErrorCode::kTooManyTerminals);
+  CHECK(out.error().details["count"] == 12);
+  CHECK(out.error().details["limit"] == 10);
 
   core::CancelToken cancelled;
   cancelled.cancel();

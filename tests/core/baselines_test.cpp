@@ -268,6 +268,8 @@ TEST_CASE("optimal refuses too many terminals, validates input and honours cance
   auto r = optimal_seam(surface, terminals, 7);
   REQUIRE(!r.ok());
   CHECK(r.error().code == ErrorCode::kTooManyTerminals);
+  using Value = std::pair<std::string, std::uint64_t>;
+  CHECK(r.error().values == std::vector<Value>{{"count", terminals.size()}, {"limit", 7}});
   std::vector<VertexId> repeated{terminals[0], terminals[1], terminals[0]};
   CHECK(optimal_seam(surface, repeated, 10).error().code == ErrorCode::kInvalidArgument);
   CHECK(greedy_seam(surface, repeated).error().code == ErrorCode::kInvalidArgument);

@@ -272,6 +272,8 @@ TEST_CASE("bad extrema and too many terminals are typed errors") {
   auto r3 = compute_seam(mesh, many, {.method = SeamMethod::kOptimal, .optimal_max_terminals = 5});
   REQUIRE(!r3.ok());
   CHECK(r3.error().code == ErrorCode::kTooManyTerminals);
+  using Value = std::pair<std::string, std::uint64_t>;
+  CHECK(r3.error().values == std::vector<Value>{{"count", 6}, {"limit", 5}});
 
   CancelToken cancelled;
   cancelled.cancel();
