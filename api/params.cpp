@@ -103,6 +103,13 @@ ApiResult<ExtremaSpec> extrema_from_json(const json& v) {
         spec.auto_options.min_protrusion = it->get<double>();
       } else if (key == "max_count") {
         SEAM_TRY(const std::uint32_t n, vertex_index(*it, "extrema.max_count"));
+        // 0 used to be taken and ignored (detection kept its default); "no automatic
+        // extrema" is said with auto false.
+        if (n == 0) {
+          return invalid("extrema.max_count",
+                         "extrema.max_count must be at least 1; for no automatic extrema give "
+                         "{\"auto\": false, \"include\": [...]}");
+        }
         spec.auto_options.max_count = n;
       } else {
         return invalid("extrema." + key.substr(0, 60), "extrema: unknown key \"" + key.substr(0, 60) +
@@ -338,6 +345,12 @@ ApiResult<SeamParams> params_from_json(const json& params) {
     if (setter == setters.end()) return unknown_parameter(it.key());
     SEAM_TRY(core::Ok ok, setter->second(out, *it));
     (void)ok;
+  }
+  if (params.contains("feature_angle_deg") && out.charts != ChartMode::kFeatures) {
+    // Only the feature cut reads the angle: taking it alone would silently change nothing.
+    return invalid("feature_angle_deg",
+                   "feature_angle_deg only applies with charts \"features\" (sharp edges are "
+                   "cut only then): add \"charts\": \"features\" or leave the angle out");
   }
   if (params.contains("primitives") && (out.mesh || out.primitive)) {
     return invalid("primitives", "primitives cannot be combined with mesh or primitive (v1's single-primitive "

@@ -36,7 +36,8 @@ enum class OutputFormat { kJson, kGlb, kSvg };
 enum class PackGroup { kAsset, kMesh, kMaterial, kPrimitive };
 
 /// `pack` (API.md v2 "An atlas, not only charts"); `pack: false` keeps each primitive's own
-/// layout (core::parameterize's, charts side by side at their own scale).
+/// layout (core::parameterize's, charts side by side at their own scale); `pack: true` is the
+/// default object.
 struct PackParams {
   bool enabled = true;
   PackGroup group_by = PackGroup::kAsset;
@@ -97,8 +98,10 @@ struct SeamParams {
 };
 
 /// Parses the parameter object (the multipart `params` part, or the JSON body minus "mesh").
-/// Unknown keys are rejected so typos are not silent. Errors: kInvalidParameter naming the
-/// parameter (details.parameter), also for `primitives` given together with mesh/primitive.
+/// Unknown keys are rejected so typos are not silent. `pack: true` is the default object.
+/// Errors: kInvalidParameter naming the parameter (details.parameter), also for `primitives`
+/// given together with mesh/primitive, `feature_angle_deg` without `charts: "features"`, and
+/// `extrema.max_count` 0.
 ApiResult<SeamParams> params_from_json(const nlohmann::json& params);
 
 /// Parses query-string parameters (`?extrema=12,345&method=mst&uv=none&primitives=all`);

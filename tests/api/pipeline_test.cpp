@@ -719,6 +719,36 @@ TEST_CASE("the query form takes the v2 parameters as JSON, pack=false and decima
   }
 }
 
+TEST_CASE("extrema.max_count 0 and feature_angle_deg without charts features are refused, pack true is the default") {
+  // max_count 0 used to be taken and ignored: detection returned its usual extrema.
+  for (const json& bad : {json{{"extrema", {{"auto", true}, {"max_count", 0}}}},
+                          json{{"primitives", {{{"mesh", 0}, {"extrema", {{"max_count", 0}}}}}}}}) {
+    auto r = params_from_json(bad);
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == ApiErrorCode::kInvalidParameter);
+    CHECK(r.error().details["parameter"] == "extrema.max_count");
+  }
+  CHECK(params_from_json({{"extrema", {{"auto", true}, {"max_count", 1}}}}).ok());
+  // The angle alone changed nothing, silently.
+  for (const json& bad : {json{{"feature_angle_deg", 30}}, json{{"feature_angle_deg", 30}, {"charts", "seam"}}}) {
+    auto r = params_from_json(bad);
+    REQUIRE(!r.ok());
+    CHECK(r.error().details["parameter"] == "feature_angle_deg");
+    CHECK(r.error().message.find("charts") != std::string::npos);
+  }
+  auto features = params_from_json({{"feature_angle_deg", 30}, {"charts", "features"}});
+  REQUIRE(features.ok());
+  CHECK(features->feature_angle_deg == 30);
+  auto packed = params_from_json({{"pack", true}});
+  REQUIRE(packed.ok());
+  const PackParams defaults;
+  CHECK(packed->pack.enabled);
+  CHECK(packed->pack.group_by == defaults.group_by);
+  CHECK(packed->pack.texture_size == defaults.texture_size);
+  CHECK(packed->pack.margin_px == defaults.margin_px);
+  CHECK(packed->pack.rotate == defaults.rotate);
+}
+
 TEST_CASE("explicit extrema beyond max_extrema are a 422 before the asset is even parsed") {
   SeamParams params;
   params.extrema.automatic = false;
