@@ -435,8 +435,9 @@ struct Server::Impl {
   // ---- wiring --------------------------------------------------------------------------
 
   void method_not_allowed(const std::string& path, const std::string& allow) {
+    // Allow lists every method the route takes, OPTIONS included, as OPTIONS itself answers.
     auto handler = [this, allow](const httplib::Request& req, httplib::Response& res) {
-      res.set_header("Allow", allow);
+      res.set_header("Allow", allow + ", OPTIONS");
       send_error(req, res,
                  make_api_error(ApiErrorCode::kMethodNotAllowed,
                                 req.method + " is not allowed on " + req.path + "; use " + allow,

@@ -88,7 +88,7 @@ TEST_CASE("web: other methods on the file routes are 405 with Allow, near-miss p
     auto res = client->Post(path, "{}", "application/json");
     REQUIRE(res);
     CHECK(res->status == 405);
-    CHECK(res->get_header_value("Allow") == "GET, HEAD");
+    CHECK(res->get_header_value("Allow") == "GET, HEAD, OPTIONS");
     CHECK(seam::test_server::error_code_of(res->body) == "method_not_allowed");
   }
   // Route patterns are regular expressions; their dots must not match any character.
