@@ -70,7 +70,7 @@ struct Ok {};
 using Status = Result<Ok>;
 
 inline Error make_error(ErrorCode code, std::string message, std::vector<std::uint32_t> elements = {}) {
-  return Error{code, std::move(message), std::move(elements)};
+  return Error{code, std::move(message), std::move(elements), {}};
 }
 
 [[noreturn]] inline void assertion_failed(const char* expr, const char* file, int line) {
