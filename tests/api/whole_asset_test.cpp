@@ -468,7 +468,8 @@ std::vector<double> uv_orientations(const PrimitiveData& p, int channel) {
 TEST_CASE("untangle: lscm, bff and arap charts that folded or overlapped themselves are packed as valid pieces") {
   const std::string props = asset_set_file("props.glb");
   // The default's charts are valid: nothing to untangle.
-  for (const auto& e : run_ok(props, json::object()).body["primitives"]) CHECK(e["uv"]["untangle"]["charts"] == 0);
+  const PipelineOutput by_default = run_ok(props, json::object());  // held: the loop reads into it
+  for (const auto& e : by_default.body["primitives"]) CHECK(e["uv"]["untangle"]["charts"] == 0);
   std::size_t added = 0;
   for (const char* method : {"lscm", "bff", "arap"}) {
     CAPTURE(method);
