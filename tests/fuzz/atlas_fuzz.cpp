@@ -1,8 +1,11 @@
 // libFuzzer target for the atlas: pack_charts (the rectangle, column-profile and shape
-// packers) and find_overlaps on charts decoded from the input, folded, degenerate,
-// overlapping or malformed. Bad charts must come back as typed errors; a packed layout must
-// keep every two charts apart, which find_overlaps on the placed charts checks exactly (no
-// area between charts), and keep every point in [0,1]^2.
+// packers), untangle_charts and find_overlaps on charts decoded from the input, folded,
+// degenerate, overlapping or malformed. Bad charts must come back as typed errors; a packed
+// layout must keep every two charts apart, which find_overlaps on the placed charts checks
+// exactly (no area between charts), and keep every point in [0,1]^2. The untangled pieces
+// must hold every triangle of their chart exactly once, over the chart's own UVs, each piece
+// turning one way (clockwise exactly when it is mirrored; zero-area triangles aside) and
+// overlapping itself nowhere.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -10,6 +13,8 @@
 
 #include "core/atlas/overlap.h"
 #include "core/atlas/pack.h"
+#include "core/atlas/predicates.h"
+#include "core/atlas/untangle.h"
 
 namespace {
 
@@ -27,6 +32,48 @@ struct Chart {
   std::vector<seam::core::Triangle> triangles;
   double area = 0;
 };
+
+// The untangling's properties (see the file comment); traps on a violation.
+void check_untangled(const std::vector<Chart>& charts, const std::vector<seam::core::PackChart>& input) {
+  using namespace seam::core;
+  auto untangled = untangle_charts(input);
+  if (!untangled.ok()) return;  // the same typed errors as packing
+  std::vector<std::vector<int>> seen(charts.size());
+  for (std::size_t c = 0; c < charts.size(); ++c) seen[c].assign(charts[c].triangles.size(), 0);
+  for (const ChartPiece& piece : untangled->pieces) {
+    if (piece.chart >= charts.size()) __builtin_trap();
+    const Chart& chart = charts[piece.chart];
+    if (piece.triangles.size() != piece.chart_triangles.size()) __builtin_trap();
+    std::vector<Vec2> uv;
+    for (std::uint32_t v : piece.vertices) {
+      if (v >= chart.uv.size()) __builtin_trap();
+      uv.push_back(chart.uv[v]);
+    }
+    const double mirror = piece.mirrored ? -1.0 : 1.0;
+    for (std::size_t i = 0; i < piece.triangles.size(); ++i) {
+      const std::uint32_t t = piece.chart_triangles[i];
+      if (t >= chart.triangles.size() || seen[piece.chart][t]++ != 0) __builtin_trap();
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t local = piece.triangles[i][k];
+        if (local >= piece.vertices.size() || piece.vertices[local] != chart.triangles[t][k]) __builtin_trap();
+      }
+      // Turning one way: counter-clockwise, or clockwise in a mirrored piece; a zero-area
+      // triangle covers nothing and may sit in any piece.
+      const Triangle& local = piece.triangles[i];
+      const int turn = orient2d(uv[local[0]], uv[local[1]], uv[local[2]]);
+      if (turn != 0 && turn * mirror < 0) __builtin_trap();
+    }
+    // Within the piece no two interiors meet (mirrored or not, overlap is the same).
+    const std::vector<std::uint32_t> one(piece.triangles.size(), 0);
+    auto overlaps = find_overlaps(uv, piece.triangles, one);
+    if (!overlaps.ok() || overlaps->overlap_area > 0) __builtin_trap();
+  }
+  for (const auto& per_chart : seen) {
+    for (int count : per_chart) {
+      if (count != 1) __builtin_trap();
+    }
+  }
+}
 
 }  // namespace
 
@@ -56,6 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   std::vector<PackChart> input;
   for (const Chart& c : charts) input.push_back({c.uv, c.triangles, c.area});
+  check_untangled(charts, input);
   auto packed = pack_charts(input, options);
   if (!packed.ok()) return 0;
   if (packed->placements.size() != charts.size()) __builtin_trap();
