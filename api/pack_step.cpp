@@ -9,6 +9,7 @@
 #include "core/atlas/pack.h"
 #include "core/atlas/split.h"
 #include "core/atlas/untangle.h"
+#include "core/uv/uv_patch.h"
 
 namespace seam::api {
 namespace {
@@ -197,59 +198,26 @@ double orientation(const std::vector<std::array<float, 2>>& uv, const core::Tria
          (static_cast<double>(b[1]) - a[1]) * (static_cast<double>(c[0]) - a[0]);
 }
 
-// Whether triangle t turns as it did before placing (`sign`, non-zero).
-bool turns_as(const PrimitiveResult& r, std::size_t t, double sign) {
-  const double now = orientation(r.cut.uv, r.cut.triangles[t]);
-  return now != 0 && (now > 0) == (sign > 0);
-}
-
-// The triangles of the member that the rounding to float turned over or flattened get a
-// corner moved to a neighbouring float (one step in u and/or v, staying in [0,1]) when that
-// restores their turn without turning any other triangle at that corner, as parameterize
-// nudges its own rounding (core::round_to_float32). Untangled lscm/arap pieces hold slivers
-// that the placement's rotation and rounding turned over (bench6 arap and skinned lscm, one
-// each). Returns how many stay turned. O(F) to find them, plus the stars of those found.
-std::size_t nudge_turned(PrimitiveResult& r, const std::vector<double>& signs) {
-  std::vector<std::uint32_t> bad;
-  for (std::size_t t = 0; t < signs.size(); ++t) {
-    if (signs[t] != 0 && !turns_as(r, t, signs[t])) bad.push_back(static_cast<std::uint32_t>(t));
+// The member's triangles that the rounding of the placement to float turned over or flattened
+// get a corner moved to a neighbouring float where that restores their turn without turning
+// another triangle at that corner (core::restore_turns, the nudge parameterize applies to its
+// own rounding). Untangled lscm/arap pieces hold slivers the placement's rotation and
+// rounding turned over (bench6 arap and skinned lscm, one each). Returns how many stay turned.
+// O(F) when nothing turned.
+std::size_t restore_member_turns(PrimitiveResult& r, const std::vector<double>& signs) {
+  bool turned = false;
+  for (std::size_t t = 0; t < signs.size() && !turned; ++t) {
+    const double now = orientation(r.cut.uv, r.cut.triangles[t]);
+    turned = signs[t] != 0 && !(signs[t] > 0 ? now > 0 : now < 0);
   }
-  if (bad.empty()) return 0;
-  std::vector<std::uint32_t> offset(r.cut.uv.size() + 1, 0);  // each vertex's triangles
-  for (const auto& t : r.cut.triangles) {
-    for (std::uint32_t v : t) ++offset[v + 1];
+  if (!turned) return 0;
+  std::vector<core::Vec2> uv(r.cut.uv.size());
+  for (std::size_t v = 0; v < uv.size(); ++v) uv[v] = core::Vec2(r.cut.uv[v][0], r.cut.uv[v][1]);
+  const core::Float32Rounding restored = core::restore_turns(r.cut.triangles, signs, uv);
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    r.cut.uv[v] = {static_cast<float>(uv[v].x()), static_cast<float>(uv[v].y())};
   }
-  for (std::size_t v = 0; v + 1 < offset.size(); ++v) offset[v + 1] += offset[v];
-  std::vector<std::uint32_t> star(offset.back());
-  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
-  for (std::size_t t = 0; t < r.cut.triangles.size(); ++t) {
-    for (std::uint32_t v : r.cut.triangles[t]) star[fill[v]++] = static_cast<std::uint32_t>(t);
-  }
-  auto star_ok = [&](std::uint32_t v) {
-    for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
-      if (signs[star[k]] != 0 && !turns_as(r, star[k], signs[star[k]])) return false;
-    }
-    return true;
-  };
-  auto step = [](float x, int dir) {
-    return dir == 0 ? x : std::clamp(std::nextafter(x, dir > 0 ? 2.0f : -1.0f), 0.0f, 1.0f);
-  };
-  std::size_t remaining = 0;
-  for (std::uint32_t t : bad) {
-    bool fixed = turns_as(r, t, signs[t]);  // a neighbour's nudge may have fixed it
-    for (int corner = 0; corner < 3 && !fixed; ++corner) {
-      const std::uint32_t v = r.cut.triangles[t][corner];
-      const std::array<float, 2> was = r.cut.uv[v];
-      for (int d = 0; d < 9 && !fixed; ++d) {
-        if (d == 4) continue;  // no move
-        r.cut.uv[v] = {step(was[0], d % 3 - 1), step(was[1], d / 3 - 1)};
-        fixed = star_ok(v);
-        if (!fixed) r.cut.uv[v] = was;
-      }
-    }
-    if (!fixed) ++remaining;
-  }
-  return remaining;
+  return restored.remaining;
 }
 
 // Moves every chart of the group by its placement; counts triangles whose orientation the
@@ -270,7 +238,8 @@ void place(std::vector<ChartData>& charts, const core::PackResult& packed, const
       r.cut.uv[charts[k].vertices[i]] = {static_cast<float>(p.x()), static_cast<float>(p.y())};
     }
   }
-  for (const auto& [member, signs] : before) outcomes[member].flipped += nudge_turned(*members[member].result, signs);
+  for (const auto& [member, signs] : before)
+    outcomes[member].flipped += restore_member_turns(*members[member].result, signs);
 }
 
 struct Measured {

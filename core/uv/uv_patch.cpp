@@ -197,20 +197,23 @@ std::array<Vec2, 3> local_triangle_frame(const DiscPatch& patch, std::size_t t) 
   return {Vec2(0, 0), Vec2(l1, 0), Vec2(ex, ey)};
 }
 
-VertexStars vertex_stars(const DiscPatch& patch) {
-  const std::size_t n = patch.num_vertices();
+VertexStars vertex_stars(std::span<const Triangle> triangles, std::size_t num_vertices) {
   VertexStars s;
-  s.offset.assign(n + 1, 0);
-  for (const Triangle& t : patch.triangles) {
+  s.offset.assign(num_vertices + 1, 0);
+  for (const Triangle& t : triangles) {
     for (std::uint32_t v : t) ++s.offset[v + 1];
   }
-  for (std::size_t v = 0; v < n; ++v) s.offset[v + 1] += s.offset[v];
-  s.triangles.resize(s.offset[n]);
+  for (std::size_t v = 0; v < num_vertices; ++v) s.offset[v + 1] += s.offset[v];
+  s.triangles.resize(s.offset[num_vertices]);
   std::vector<std::uint32_t> fill(s.offset.begin(), s.offset.end() - 1);
-  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-    for (std::uint32_t v : patch.triangles[t]) s.triangles[fill[v]++] = static_cast<std::uint32_t>(t);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (std::uint32_t v : triangles[t]) s.triangles[fill[v]++] = static_cast<std::uint32_t>(t);
   }
   return s;
+}
+
+VertexStars vertex_stars(const DiscPatch& patch) {
+  return vertex_stars(patch.triangles, patch.num_vertices());
 }
 
 double max_injective_step(const DiscPatch& patch, const std::vector<Vec2>& uv, const std::vector<Vec2>& direction) {
@@ -462,10 +465,11 @@ std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, 
 namespace seam::core {
 
 Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) {
-  std::vector<double> before(patch.triangles.size());
+  // The wanted turn: counter-clockwise where the double map had it, free elsewhere.
+  std::vector<double> want(patch.triangles.size());
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Triangle& tri = patch.triangles[t];
-    before[t] = cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]);
+    want[t] = cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0 ? 1.0 : 0.0;
   }
   // Through float storage: with GCC 12 at -O3 a direct double->float->double cast in a loop
   // was observed to leave the doubles unrounded (the tests check every value is a float).
@@ -475,25 +479,28 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
     stored[2 * v + 1] = static_cast<float>(uv[v].y());
   }
   for (std::size_t v = 0; v < uv.size(); ++v) uv[v] = Vec2(double{stored[2 * v]}, double{stored[2 * v + 1]});
+  return restore_turns(patch.triangles, want, uv);
+}
 
+Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<const double> want,
+                              std::vector<Vec2>& uv) {
+  auto turns_right = [&](std::uint32_t t) {
+    const Triangle& tri = triangles[t];
+    const double area = cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]);
+    return want[t] == 0 || (want[t] > 0 ? area > 0 : area < 0);
+  };
   Float32Rounding out;
   std::vector<std::uint32_t> bad;
-  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-    const Triangle& tri = patch.triangles[t];
-    if (before[t] > 0 && !(cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0)) {
-      bad.push_back(static_cast<std::uint32_t>(t));
-    }
+  for (std::uint32_t t = 0; t < triangles.size(); ++t) {
+    if (!turns_right(t)) bad.push_back(t);
   }
   out.degenerate = bad.size();
   if (bad.empty()) return out;
 
-  const VertexStars stars = vertex_stars(patch);
-  const std::vector<std::uint32_t>& offset = stars.offset;
-  const std::vector<std::uint32_t>& star = stars.triangles;
+  const VertexStars stars = vertex_stars(triangles, uv.size());
   auto star_ok = [&](std::uint32_t v) {
-    for (std::uint32_t k = offset[v]; k < offset[v + 1]; ++k) {
-      const Triangle& t = patch.triangles[star[k]];
-      if (before[star[k]] > 0 && !(cross2(uv[t[0]], uv[t[1]], uv[t[2]]) > 0)) return false;
+    for (std::uint32_t k = stars.offset[v]; k < stars.offset[v + 1]; ++k) {
+      if (!turns_right(stars.triangles[k])) return false;
     }
     return true;
   };
@@ -503,11 +510,10 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
     return static_cast<double>(std::clamp(f, 0.0f, 1.0f));
   };
   for (std::uint32_t t : bad) {
-    const Triangle& tri = patch.triangles[t];
-    if (cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0) continue;  // fixed by a neighbour's nudge
+    if (turns_right(t)) continue;  // fixed by a neighbour's nudge
     bool fixed = false;
     for (int corner = 0; corner < 3 && !fixed; ++corner) {
-      const std::uint32_t v = tri[corner];
+      const std::uint32_t v = triangles[t][corner];
       const Vec2 old = uv[v];
       for (int dx = -1; dx <= 1 && !fixed; ++dx) {
         for (int dy = -1; dy <= 1 && !fixed; ++dy) {

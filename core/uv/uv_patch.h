@@ -2,10 +2,10 @@
 // flattening methods (LSCM, BFF, ARAP) share.
 #pragma once
 
-#include <cstdint>
-#include <vector>
-
 #include <Eigen/SparseCore>
+#include <cstdint>
+#include <span>
+#include <vector>
 
 #include "core/cancel.h"
 #include "core/error.h"
@@ -92,18 +92,28 @@ struct VertexStars {
   std::vector<std::uint32_t> offset;
   std::vector<std::uint32_t> triangles;
 };
-/// O(V + F).
+/// O(V + F) over `triangles` whose corners are below num_vertices.
+VertexStars vertex_stars(std::span<const Triangle> triangles, std::size_t num_vertices);
 VertexStars vertex_stars(const DiscPatch& patch);
 
 }  // namespace seam::core
 
 namespace seam::core {
 
-/// Counts of the float32 storage step (see round_to_float32).
+/// Counts of the float32 storage step (see round_to_float32 and restore_turns).
 struct Float32Rounding {
-  std::size_t degenerate = 0;  ///< positive in double, non-positive after rounding, before nudging
-  std::size_t remaining = 0;   ///< of those, still non-positive after nudging
+  std::size_t degenerate = 0;  ///< turned the wanted way before rounding, not after, before nudging
+  std::size_t remaining = 0;   ///< of those, still not turned the wanted way after nudging
 };
+
+/// Restores, after a rounding to float32, the turn the triangles had before it: a triangle t
+/// with want[t] != 0 whose signed area on `uv` is not strictly of want[t]'s sign gets a corner
+/// moved to a neighbouring float grid point (one ulp in x and/or y, staying in [0,1]; corners
+/// in order, moves x-major from (-1, -1)) when that restores it without losing the wanted turn
+/// of any other triangle at the moved vertex. Triangles with want[t] == 0 are free. `uv` holds
+/// float-representable values in [0,1]^2 and keeps doing so. O(F) when nothing is turned, plus
+/// O(V + F) for the vertex stars when something is. The pack step calls it after placing charts.
+Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<const double> want, std::vector<Vec2>& uv);
 
 /// Rounds `uv` (already fitted into [0,1]^2) to float32 in place. A triangle that was positive
 /// in double but rounds to zero or negative area gets its corners nudged to neighbouring float

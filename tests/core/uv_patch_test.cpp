@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <utility>
 
@@ -155,6 +156,41 @@ TEST_CASE("untangle with an area floor fattens thin triangles without folding an
   CHECK(thinnest() > floor);
   CHECK(seam::core::count_flipped(patch, uv) == 0);
   CHECK(uv[0].norm() < 0.1);  // back near the centre of its ring
+}
+
+TEST_CASE("restore_turns gives a flattened triangle back its wanted turn, either way, by one float step") {
+  using seam::core::Triangle;
+  using seam::core::Vec2;
+  // c lies on the segment ab, so (a, b, c), wanted clockwise, has no area; (c, b, d) turns
+  // counter-clockwise as wanted; (a, c, d) is free (want 0).
+  std::vector<Vec2> uv = {{0.25, 0.5}, {0.75, 0.5}, {0.5, 0.5}, {0.5, 0.75}};
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {2, 1, 3}, {0, 2, 3}};
+  const std::vector<double> want = {-1.0, 1.0, 0.0};
+  auto area = [&](const Triangle& t) { return seam::core::cross2(uv[t[0]], uv[t[1]], uv[t[2]]); };
+  const std::vector<Vec2> before = uv;
+  const seam::core::Float32Rounding r = seam::core::restore_turns(triangles, want, uv);
+  CHECK(r.degenerate == 1);
+  CHECK(r.remaining == 0);
+  CHECK(area(triangles[0]) < 0);
+  CHECK(area(triangles[1]) > 0);
+  // The first corner's first move that works, (-1, +1): one float step left and up.
+  CHECK(uv[0] == Vec2(std::nextafter(0.25f, -1.0f), std::nextafter(0.5f, 2.0f)));
+  for (std::size_t v = 1; v < uv.size(); ++v) CHECK(uv[v] == before[v]);
+  for (const Vec2& p : uv) {
+    CHECK(static_cast<double>(static_cast<float>(p.x())) == p.x());
+    CHECK(static_cast<double>(static_cast<float>(p.y())) == p.y());
+  }
+  // Turned the wanted way already: nothing moves.
+  const std::vector<Vec2> settled = uv;
+  CHECK(seam::core::restore_turns(triangles, want, uv).degenerate == 0);
+  CHECK(uv == settled);
+  // Wanted both ways at once over the same corners: no step restores it, and it is counted.
+  const std::vector<Triangle> twice = {{0, 1, 2}, {0, 2, 1}};
+  std::vector<Vec2> flat = before;
+  const seam::core::Float32Rounding stuck = seam::core::restore_turns(twice, std::vector<double>{-1.0, -1.0}, flat);
+  CHECK(stuck.degenerate == 2);
+  CHECK(stuck.remaining == 2);
+  CHECK(flat == before);
 }
 
 }  // namespace seam_uv_patch_test
