@@ -220,7 +220,9 @@ std::vector<Piece> pieces_of(const PackChart& chart, const SplitOptions& options
 
 }  // namespace
 
-ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<const std::vector<std::uint32_t>> parts) {
+ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<const std::vector<std::uint32_t>> parts,
+                         std::span<const std::uint32_t> point) {
+  SEAM_ASSERT(point.empty() || point.size() == chart.uv.size());
   std::vector<double> areas;
   double uv_area = 0;
   for (const auto& part : parts) {
@@ -232,8 +234,15 @@ ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<co
   SEAM_ASSERT(uv_area > 0);
   const double scale = std::sqrt(chart.surface_area / uv_area);
   ChartPieces result;
-  // Edges by the pieces that use them: an edge of two pieces is a cut, of one use a border.
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<int, 2>> edges;  // {uses, first piece}
+  // Edges (between points) by their uses: an edge that two pieces use is a cut, an edge used
+  // once a border; one piece's triangles using it three times make neither.
+  struct Uses {
+    std::size_t count = 0;
+    std::size_t first_piece = 0;
+    bool cut = false;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Uses> edges;
+  const auto key = [&](std::uint32_t v) { return point.empty() ? v : point[v]; };
   for (std::size_t p = 0; p < parts.size(); ++p) {
     ChartPiece out{index, {}, {}, parts[p], chart.surface_area * areas[p] / uv_area};
     std::map<std::uint32_t, std::uint32_t> local;
@@ -244,10 +253,10 @@ ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<co
         const auto [it, added] = local.try_emplace(v, static_cast<std::uint32_t>(out.vertices.size()));
         if (added) out.vertices.push_back(v);
         tri[k] = it->second;
-        auto [e, fresh] = edges.try_emplace(std::minmax(v, chart.triangles[t][(k + 1) % 3]),
-                                            std::array<int, 2>{0, static_cast<int>(p)});
-        e->second[0] += 1;
-        if (e->second[1] != static_cast<int>(p)) e->second[0] += 2;  // used by another piece: a cut
+        auto [e, fresh] =
+            edges.try_emplace(std::minmax(key(v), key(chart.triangles[t][(k + 1) % 3])), Uses{0, p, false});
+        e->second.count += 1;
+        e->second.cut = e->second.cut || e->second.first_piece != p;
       }
       out.triangles.push_back(tri);
     }
@@ -255,8 +264,8 @@ ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<co
   }
   for (const auto& [e, use] : edges) {
     const double length = scale * (chart.uv[e.first] - chart.uv[e.second]).norm();
-    if (use[0] == 1) result.boundary_length += length;
-    if (use[0] > 2) result.cut_length += length;
+    if (use.count == 1) result.boundary_length += length;
+    if (use.cut) result.cut_length += length;
   }
   return result;
 }

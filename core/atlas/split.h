@@ -60,10 +60,14 @@ struct ChartPieces {
 
 /// The pieces of chart number `index` whose triangles (indices into chart.triangles) are each
 /// of `parts`, in that order: each piece's vertices in order of first use, its surface_area the
-/// chart's times its share of the UV area (|signed area|). Edges used by two parts are cuts.
-/// Preconditions: every triangle in exactly one part, the chart's UV area > 0 (SEAM_ASSERT).
-/// O(T log T).
-ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<const std::vector<std::uint32_t>> parts);
+/// chart's times its share of the UV area (|signed area|). An edge that triangles of two parts
+/// use is a cut, an edge one triangle uses a border; edges are between vertices, or between
+/// the points `point` names (each vertex's representative among the vertices at its UV point,
+/// so a flat-shaded chart's triangles share edges) when it is not empty.
+/// Preconditions: every triangle in exactly one part, the chart's UV area > 0, `point` empty
+/// or one id per chart vertex, each a vertex at the same UV point (SEAM_ASSERT). O(T log T).
+ChartPieces chart_pieces(const PackChart& chart, std::size_t index, std::span<const std::vector<std::uint32_t>> parts,
+                         std::span<const std::uint32_t> point = {});
 
 /// Splits each chart whose fill (UV area / its minimal enclosing rectangle's area) is below
 /// options.min_fill, recursively (the largest piece first), into at most options.max_pieces

@@ -217,31 +217,6 @@ Result<std::vector<std::vector<std::uint32_t>>> grow_pieces(const PackChart& cha
   return parts;
 }
 
-// Length of the edges (between UV points) that triangles of two pieces use, scaled to unit
-// density (UV area = surface area).
-double cut_length(const PackChart& chart, const std::vector<std::uint32_t>& point,
-                  const std::vector<std::vector<std::uint32_t>>& parts) {
-  std::vector<std::uint32_t> part_of(chart.triangles.size());
-  double uv_area = 0;
-  for (std::uint32_t p = 0; p < parts.size(); ++p) {
-    for (std::uint32_t t : parts[p]) part_of[t] = p;
-  }
-  for (const Triangle& t : chart.triangles)
-    uv_area += 0.5 * std::abs(cross2(chart.uv[t[0]], chart.uv[t[1]], chart.uv[t[2]]));
-  const std::vector<std::array<std::uint32_t, 3>> uses = edge_uses(chart, point);
-  double length = 0;
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i;
-    bool cut = false;
-    for (; j < uses.size() && uses[j][0] == uses[i][0] && uses[j][1] == uses[i][1]; ++j) {
-      cut = cut || part_of[uses[j][2]] != part_of[uses[i][2]];
-    }
-    if (cut) length += (chart.uv[uses[i][0]] - chart.uv[uses[i][1]]).norm();
-    i = j;
-  }
-  return length * std::sqrt(chart.surface_area / uv_area);
-}
-
 }  // namespace untangle_detail
 
 Result<UntangleResult> untangle_charts(std::span<const PackChart> charts, const CancelToken& cancel) {
@@ -264,16 +239,17 @@ Result<UntangleResult> untangle_charts(std::span<const PackChart> charts, const 
     }
     std::vector<std::vector<std::uint32_t>> parts(1, std::vector<std::uint32_t>(chart.triangles.size()));
     std::iota(parts[0].begin(), parts[0].end(), 0u);
+    std::vector<std::uint32_t> point;
     if (tangled) {
-      const std::vector<std::uint32_t> point = ud::point_ids(chart);
+      point = ud::point_ids(chart);
       auto grown = ud::grow_pieces(chart, orient, point, cancel);
       if (!grown.ok()) return grown.take_error();
       parts = std::move(grown).value();
       ++result.charts_untangled;
       result.pieces_added += parts.size() - 1;
-      result.cut_length += ud::cut_length(chart, point, parts);
     }
-    ChartPieces out = chart_pieces(chart, c, parts);
+    ChartPieces out = chart_pieces(chart, c, parts, point);
+    result.cut_length += out.cut_length;
     for (ChartPiece& piece : out.pieces) {
       // A piece's triangles all turn one way, or have no area: the first one with area says.
       const auto turning = std::find_if(piece.chart_triangles.begin(), piece.chart_triangles.end(),

@@ -560,6 +560,34 @@ TEST_CASE("split: a chart that holds a triangle twice gives each copy to one pie
   CHECK(std::all_of(uses.begin(), uses.end(), [](int u) { return u == 1; }));
 }
 
+TEST_CASE("chart_pieces: cuts are edges two pieces share, between vertices or between UV points") {
+  // A unit square of two triangles, flat-shaded (each triangle its own three vertices), and a
+  // fin: a third triangle on the diagonal's vertices, in the first triangle's piece.
+  const std::vector<Vec2> uv = {{0, 0}, {1, 0}, {1, 1}, {0, 0}, {1, 1}, {0, 1}, {1, 1}};
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {3, 4, 5}, {0, 6, 1}};
+  const PackChart chart{uv, triangles, 1.0};
+  const std::vector<std::vector<std::uint32_t>> parts = {{0, 2}, {1}};
+  // By vertex: the halves share no vertex, so nothing is cut; the fin's (0, 1) edge is used
+  // twice by one piece (neither a cut nor a border).
+  const ChartPieces by_vertex = chart_pieces(chart, 0, parts);
+  CHECK(by_vertex.cut_length == 0);
+  REQUIRE(by_vertex.pieces.size() == 2);
+  CHECK(by_vertex.pieces[0].vertices == std::vector<std::uint32_t>{0, 1, 2, 6});
+  CHECK(by_vertex.pieces[1].vertices == std::vector<std::uint32_t>{3, 4, 5});
+  // By point (3 is 0, 4 and 6 are 2): the fin lies on the first triangle's three edges, and
+  // the diagonal, used three times (twice by the first piece), is the one cut, counted once.
+  // The border is the second triangle's other edges. The UV area counts the fin, so the scale
+  // to unit density is sqrt(1 / 1.5).
+  const std::vector<std::uint32_t> point = {0, 1, 2, 0, 2, 5, 2};
+  const ChartPieces by_point = chart_pieces(chart, 0, parts, point);
+  const double scale = std::sqrt(1 / 1.5);
+  CHECK(by_point.cut_length == doctest::Approx(std::sqrt(2.0) * scale));
+  CHECK(by_point.boundary_length == doctest::Approx(2 * scale));
+  // One piece: no cut, though the diagonal is used three times.
+  const std::vector<std::vector<std::uint32_t>> whole = {{0, 1, 2}};
+  CHECK(chart_pieces(chart, 0, whole, point).cut_length == 0);
+}
+
 TEST_CASE("split refuses bad options and malformed charts with typed errors") {
   std::vector<OwnedChart> charts{comb_chart()};
   CHECK(split_sprawling_charts(views(charts), {.min_fill = 1.5}).error().code == ErrorCode::kInvalidArgument);
