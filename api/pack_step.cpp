@@ -278,6 +278,20 @@ ApiResult<Measured> measure_group(const std::vector<ChartData>& charts, const st
 
 }  // namespace
 
+ApiResult<core::PackOptions> atlas_options(const PackParams& params, std::size_t charts) {
+  core::PackOptions options{params.texture_size, params.margin_px, params.rotate};
+  if (core::margins_fit(charts, options)) return options;
+  if (!params.sized_by_caller) {
+    while (options.texture_size < 65536 && 4.0 * static_cast<double>(charts) * options.margin_px * options.margin_px >
+                                               static_cast<double>(options.texture_size) * options.texture_size) {
+      options.texture_size *= 2;
+    }
+    if (core::margins_fit(charts, options)) return options;
+  }
+  return make_api_error(ApiErrorCode::kInvalidParameter, core::margins_message(charts, options),
+                        {{"parameter", "pack.texture_size"}, {"charts", charts}});
+}
+
 ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const std::vector<PackMember>& members,
                                                  const PackParams& params, const core::CancelToken& cancel) {
   std::vector<PackOutcome> outcomes(members.size());
@@ -301,12 +315,9 @@ ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const 
     }
     if (charts.empty()) continue;
     double density = 0;
+    int texture_size = 0;
     if (params.enabled) {
-      const core::PackOptions options{params.texture_size, params.margin_px, params.rotate};
-      if (!core::margins_fit(charts.size(), options)) {
-        return make_api_error(ApiErrorCode::kInvalidParameter, core::margins_message(charts.size(), options),
-                              {{"parameter", "pack.texture_size"}, {"charts", charts.size()}});
-      }
+      SEAM_TRY(const core::PackOptions options, atlas_options(params, charts.size()));
       std::vector<core::PackChart> input;
       for (const auto& c : charts) input.push_back({c.uv, c.triangles, c.area});
       auto packed = core::pack_charts(input, options, cancel);
@@ -316,6 +327,7 @@ ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const 
       }
       place(charts, *packed, members, outcomes);
       density = packed->texel_density;
+      texture_size = options.texture_size;
     }
     SEAM_TRY(const Measured measured, measure_group(charts, members, cancel));
     for (std::size_t i = 0; i < members.size(); ++i) {
@@ -323,6 +335,7 @@ ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const 
       outcomes[i].coverage = measured.coverage;
       outcomes[i].overlap_area = measured.overlap_area;
       outcomes[i].texel_density = density;
+      outcomes[i].texture_size = texture_size;
     }
   }
   return outcomes;

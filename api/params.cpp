@@ -196,11 +196,13 @@ ApiResult<PackParams> pack_from_json(const json& v) {
         return invalid("pack.texture_size", "pack.texture_size must be an integer from 16 to 65536");
       }
       out.texture_size = static_cast<int>(x.get<std::int64_t>());
+      out.sized_by_caller = true;
     } else if (key == "margin_px") {
       if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < 0) {
         return invalid("pack.margin_px", "pack.margin_px must be a number >= 0");
       }
       out.margin_px = x.get<double>();
+      out.sized_by_caller = true;
     } else if (key == "rotate") {
       if (!x.is_boolean()) return invalid("pack.rotate", "pack.rotate must be true or false");
       out.rotate = x.get<bool>();

@@ -48,6 +48,10 @@ struct PackParams {
   /// before packing: more charts and a longer cut, a fuller atlas. Off by default: one chart
   /// per component is the paper's premise.
   bool split = false;
+  /// The caller gave texture_size or margin_px: they hold as given (too many charts for them is
+  /// an error). Left at their defaults, the texture grows for more charts than its margins
+  /// leave room for (pack_step.h).
+  bool sized_by_caller = false;
 };
 
 /// `charts`: "seam" (one chart per component, the paper's premise) or "features" (also cut

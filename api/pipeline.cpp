@@ -357,6 +357,7 @@ ApiResult<PipelineOutput> run(const std::string& asset_bytes, AssetKind kind, co
       uv["charts"] = packed[i].charts;
       if (params.pack.enabled) {
         uv["texel_density"] = p.texel_density;
+        uv["texture_size"] = p.texture_size;
         uv["untangle"] = {{"charts", p.untangle.charts},
                           {"pieces_added", p.untangle.pieces_added},
                           {"pieces_mirrored", p.untangle.pieces_mirrored},
