@@ -304,7 +304,8 @@ json uv_summary(const core::UvResult& uv) {
 }
 
 // The new UVs per output vertex. glTF puts the texture origin top-left with v growing down;
-// v is flipped so a counter-clockwise triangle stays counter-clockwise in texture space.
+// v is flipped so a counter-clockwise triangle stays counter-clockwise in texture space. The
+// UVs lie on core::kUvGrid, so 1 - v is exact and the flipped map is the one measured.
 std::vector<std::array<float, 2>> output_uvs(const core::UvResult& uv, const std::vector<core::VertexId>& cut_vertex) {
   std::vector<std::array<float, 2>> out;
   out.reserve(cut_vertex.size());

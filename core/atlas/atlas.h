@@ -38,7 +38,7 @@ struct AtlasResult {
 
 /// Packs the charts of all members into one [0,1]^2 layout with pack_charts (one texel
 /// density for the whole group, margins at options.texture_size), applies each chart's
-/// similarity to its UVs, rounds them to float32 (round_to_float32, one-ulp nudges for
+/// similarity to its UVs, rounds them to the UV grid (round_to_float32, one-step nudges for
 /// triangles the rounding degenerates) and measures the group's exact overlap.
 /// Errors: kInvalidArgument (a member's uv size differs from its vertex count, or pack_charts'
 /// option errors), kTopologyViolation (a member's component is not a disc), kEmptyMesh (a

@@ -206,7 +206,7 @@ Status validate(const HalfedgeMesh& disc_mesh, const UvOptions& options) {
   return Ok{};
 }
 
-// Packs the charts, fits the atlas into [0,1]^2, rounds to float32 (what ships is what is
+// Packs the charts, fits the atlas into [0,1]^2, rounds to the UV grid (what ships is what is
 // measured) and measures distortion and overlap.
 Status finish_atlas(const HalfedgeMesh& disc_mesh, const std::vector<DiscPatch>& patches, std::vector<Chart> charts,
                     double chart_gap, UvResult& result, const CancelToken& cancel) {

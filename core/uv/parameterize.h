@@ -69,12 +69,12 @@ struct Distortion {
 inline constexpr double kDistortionCap = 1e12;
 
 struct UvResult {
-  VertexData<Vec2> uv;  ///< per vertex of the disc mesh, fitted into [0,1]^2 (aspect kept);
-                        ///< values are exactly representable as float32 (already rounded).
-                        ///< Isolated vertices get (0, 0).
+  VertexData<Vec2> uv;    ///< per vertex of the disc mesh, fitted into [0,1]^2 (aspect kept);
+                          ///< values lie on the UV grid (kUvGrid: float32, and so is 1 - v).
+                          ///< Isolated vertices get (0, 0).
   Distortion distortion;  ///< measured on the stored (float32-rounded) UVs
   /// Triangles positive in double precision that became degenerate or flipped by rounding to
-  /// float32. Each gets a one-ulp nudge of a corner when that fixes it without harming its
+  /// the UV grid. Each gets a one-step nudge of a corner when that fixes it without harming its
   /// neighbours; float32_unrepaired counts those still non-positive (they are also in
   /// distortion.flipped).
   std::size_t float32_degenerate = 0;
@@ -101,7 +101,8 @@ struct UvResult {
 /// Flattens every component of `disc_mesh` (each must be a topological disc) with
 /// options.method, scales each chart so its UV area equals its 3D area, packs several charts
 /// side by side (shelf packing, no overlap), fits the whole into [0,1]^2 keeping the aspect,
-/// rounds to float32, and measures the distortion of what is stored.
+/// rounds to the UV grid (float32 values whose 1 - v is float32), and measures the distortion
+/// of what is stored.
 /// kArap starts from BFF; for a chart where ARAP ends with more flipped triangles than its
 /// BFF start, that chart keeps the BFF map (method_used reports kBff if any chart did).
 /// kSlim starts from BFF (or from Tutte's embedding where BFF folds or overlaps itself), never

@@ -464,6 +464,11 @@ std::size_t untangle(const DiscPatch& patch, std::vector<Vec2>& uv, int rounds, 
 
 namespace seam::core {
 
+double to_uv_grid(double x) {
+  // Scaling by powers of two and rounding to an integer below 2^24 are exact in double.
+  return std::round(std::clamp(x, 0.0, 1.0) * (1.0 / kUvGrid)) * kUvGrid;
+}
+
 Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) {
   // The wanted turn: counter-clockwise where the double map had it, free elsewhere.
   std::vector<double> want(patch.triangles.size());
@@ -471,14 +476,7 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
     const Triangle& tri = patch.triangles[t];
     want[t] = cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]) > 0 ? 1.0 : 0.0;
   }
-  // Through float storage: with GCC 12 at -O3 a direct double->float->double cast in a loop
-  // was observed to leave the doubles unrounded (the tests check every value is a float).
-  std::vector<float> stored(2 * uv.size());
-  for (std::size_t v = 0; v < uv.size(); ++v) {
-    stored[2 * v] = static_cast<float>(uv[v].x());
-    stored[2 * v + 1] = static_cast<float>(uv[v].y());
-  }
-  for (std::size_t v = 0; v < uv.size(); ++v) uv[v] = Vec2(double{stored[2 * v]}, double{stored[2 * v + 1]});
+  for (Vec2& p : uv) p = Vec2(to_uv_grid(p.x()), to_uv_grid(p.y()));
   return restore_turns(patch.triangles, want, uv);
 }
 
@@ -504,11 +502,7 @@ Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<con
     }
     return true;
   };
-  auto step = [](double x, int dir) {
-    if (dir == 0) return x;
-    const float f = std::nextafter(static_cast<float>(x), dir > 0 ? 2.0f : -1.0f);
-    return static_cast<double>(std::clamp(f, 0.0f, 1.0f));
-  };
+  auto step = [](double x, int dir) { return std::clamp(x + dir * kUvGrid, 0.0, 1.0); };
   for (std::uint32_t t : bad) {
     if (turns_right(t)) continue;  // fixed by a neighbour's nudge
     bool fixed = false;

@@ -100,25 +100,35 @@ VertexStars vertex_stars(const DiscPatch& patch);
 
 namespace seam::core {
 
-/// Counts of the float32 storage step (see round_to_float32 and restore_turns).
+/// The grid stored UVs lie on: multiples of 2^-24 in [0,1]. Each is a float32, and so is its
+/// 1 - v (glTF's texture v runs down, so the asset stores 1 - v): the flip is exact, and what is
+/// measured on these values is what ships. Float32 itself is finer below 1/2, where 1 - v would
+/// round a second time (a chart measured overlap-free overlapped itself after the flip: arap on
+/// defects.glb, 6e-10 of the atlas).
+inline constexpr double kUvGrid = 0x1p-24;
+
+/// `x` clamped to [0,1] and rounded to the nearest multiple of kUvGrid (ties away from zero).
+double to_uv_grid(double x);
+
+/// Counts of the storage step (see round_to_float32 and restore_turns).
 struct Float32Rounding {
   std::size_t degenerate = 0;  ///< turned the wanted way before rounding, not after, before nudging
   std::size_t remaining = 0;   ///< of those, still not turned the wanted way after nudging
 };
 
-/// Restores, after a rounding to float32, the turn the triangles had before it: a triangle t
+/// Restores, after a rounding to the grid, the turn the triangles had before it: a triangle t
 /// with want[t] != 0 whose signed area on `uv` is not strictly of want[t]'s sign gets a corner
-/// moved to a neighbouring float grid point (one ulp in x and/or y, staying in [0,1]; corners
-/// in order, moves x-major from (-1, -1)) when that restores it without losing the wanted turn
-/// of any other triangle at the moved vertex. Triangles with want[t] == 0 are free. `uv` holds
-/// float-representable values in [0,1]^2 and keeps doing so. O(F) when nothing is turned, plus
-/// O(V + F) for the vertex stars when something is. The pack step calls it after placing charts.
+/// moved to a neighbouring grid point (one kUvGrid step in x and/or y, staying in [0,1];
+/// corners in order, moves x-major from (-1, -1)) when that restores it without losing the
+/// wanted turn of any other triangle at the moved vertex. Triangles with want[t] == 0 are free.
+/// `uv` lies on the grid and stays there. O(F) when nothing is turned, plus O(V + F) for the
+/// vertex stars when something is. The pack step calls it after placing charts.
 Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<const double> want, std::vector<Vec2>& uv);
 
-/// Rounds `uv` (already fitted into [0,1]^2) to float32 in place. A triangle that was positive
-/// in double but rounds to zero or negative area gets its corners nudged to neighbouring float
-/// grid points (one ulp in x and/or y, staying in [0,1]) when that makes it positive without
-/// making any other triangle around the moved vertex non-positive. O(V + F).
+/// Rounds `uv` (already fitted into [0,1]^2) to the grid (kUvGrid: float32 values whose 1 - v
+/// is float32 too) in place. A triangle that was positive before but rounds to zero or negative
+/// area gets its corners nudged to neighbouring grid points (restore_turns, wanting every
+/// positive triangle positive). O(V + F).
 Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv);
 
 }  // namespace seam::core

@@ -15,6 +15,7 @@
 #include "api/gltf_reader.h"
 #include "api/gltf_writer.h"
 #include "api/pipeline.h"
+#include "core/uv/uv_patch.h"
 #include "fixtures.h"
 #include "gltf_test_util.h"
 #include "test_data.h"
@@ -477,6 +478,35 @@ TEST_CASE("a sliver the packing's rounding to float turned over is nudged back (
     pieces += e["uv"]["untangle"]["pieces_added"].get<std::size_t>();
   }
   CHECK(pieces > 0);  // the case untangles: it is the one whose sliver turned
+}
+
+TEST_CASE("the stored map is the measured one: glTF's flipped v is exact on the UV grid (defects.glb, arap)") {
+  // glTF stores 1 - v. On float32 values below 1/2 that subtraction rounds a second time,
+  // after the flattening measured its map: the hand of defects.glb flattened by arap, measured
+  // overlap-free, overlapped itself by 6e-10 of the atlas in its own layout (pack: false) and
+  // 2.4e-10 packed. The UVs now lie on multiples of 2^-24, where 1 - v is exact.
+  const std::string asset = asset_set_file("defects.glb");
+  for (const json& pack : {json(false), json(true)}) {
+    CAPTURE(pack);
+    const PipelineOutput out = run_ok(asset, {{"uv", "arap"}, {"pack", pack}});
+    auto doc = parse_asset(out.glb, AssetKind::kGlb);
+    REQUIRE(doc.ok());
+    for (const json& e : out.body["primitives"]) {
+      // Unpacked, the elephant keeps its arap map's own overlap (5% of its layout; packing
+      // untangles it); no primitive keeps a sliver of rounding.
+      const double overlap = e["uv"]["overlap_area"].get<double>();
+      CHECK((overlap == 0.0 || (pack == false && overlap > 1e-3)));
+      if (pack == true) CHECK(e["uv"]["flipped"] == 0);
+      auto p = read_primitive(*doc, e["mesh"].get<std::uint32_t>(), e["primitive"].get<std::uint32_t>());
+      REQUIRE(p.ok());
+      for (const auto& q : texcoords(*p, e["uv"]["channel"].get<int>())) {
+        CHECK(seam::core::to_uv_grid(q[0]) == q[0]);
+        CHECK(seam::core::to_uv_grid(q[1]) == q[1]);
+      }
+    }
+    std::string report;
+    CHECK_MESSAGE(test_gltf::validator_errors(out.glb, report, "defects_arap.glb") == 0, report);
+  }
 }
 
 TEST_CASE("untangle: lscm, bff and arap charts that folded or overlapped themselves are packed as valid pieces") {

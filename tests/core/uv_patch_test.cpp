@@ -158,7 +158,7 @@ TEST_CASE("untangle with an area floor fattens thin triangles without folding an
   CHECK(uv[0].norm() < 0.1);  // back near the centre of its ring
 }
 
-TEST_CASE("restore_turns gives a flattened triangle back its wanted turn, either way, by one float step") {
+TEST_CASE("restore_turns gives a flattened triangle back its wanted turn, either way, by one grid step") {
   using seam::core::Triangle;
   using seam::core::Vec2;
   // c lies on the segment ab, so (a, b, c), wanted clockwise, has no area; (c, b, d) turns
@@ -173,12 +173,12 @@ TEST_CASE("restore_turns gives a flattened triangle back its wanted turn, either
   CHECK(r.remaining == 0);
   CHECK(area(triangles[0]) < 0);
   CHECK(area(triangles[1]) > 0);
-  // The first corner's first move that works, (-1, +1): one float step left and up.
-  CHECK(uv[0] == Vec2(std::nextafter(0.25f, -1.0f), std::nextafter(0.5f, 2.0f)));
+  // The first corner's first move that works, (-1, +1): one grid step left and up.
+  CHECK(uv[0] == Vec2(0.25 - seam::core::kUvGrid, 0.5 + seam::core::kUvGrid));
   for (std::size_t v = 1; v < uv.size(); ++v) CHECK(uv[v] == before[v]);
   for (const Vec2& p : uv) {
-    CHECK(static_cast<double>(static_cast<float>(p.x())) == p.x());
-    CHECK(static_cast<double>(static_cast<float>(p.y())) == p.y());
+    CHECK(seam::core::to_uv_grid(p.x()) == p.x());
+    CHECK(seam::core::to_uv_grid(p.y()) == p.y());
   }
   // Turned the wanted way already: nothing moves.
   const std::vector<Vec2> settled = uv;
@@ -191,6 +191,22 @@ TEST_CASE("restore_turns gives a flattened triangle back its wanted turn, either
   CHECK(stuck.degenerate == 2);
   CHECK(stuck.remaining == 2);
   CHECK(flat == before);
+}
+
+TEST_CASE("the UV grid: multiples of 2^-24 in [0,1], floats whose 1 - v is a float too") {
+  using seam::core::to_uv_grid;
+  CHECK(to_uv_grid(-0.5) == 0.0);
+  CHECK(to_uv_grid(1.5) == 1.0);
+  CHECK(to_uv_grid(0.75) == 0.75);
+  CHECK(to_uv_grid(0x1p-26) == 0.0);        // below half a step
+  CHECK(to_uv_grid(0x1.8p-25) == 0x1p-24);  // half a step rounds away from zero
+  // Float32 is finer below 1/2: 0.1f is no multiple of 2^-24, and 1 - 0.1f is no float.
+  const double tenth = 0.1f;
+  REQUIRE(static_cast<double>(static_cast<float>(1.0 - tenth)) != 1.0 - tenth);
+  const double g = to_uv_grid(tenth);
+  CHECK(std::abs(g - tenth) <= 0.5 * seam::core::kUvGrid);
+  CHECK(static_cast<double>(static_cast<float>(g)) == g);
+  CHECK(static_cast<double>(static_cast<float>(1.0 - g)) == 1.0 - g);
 }
 
 }  // namespace seam_uv_patch_test

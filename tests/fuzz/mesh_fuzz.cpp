@@ -220,8 +220,8 @@ void check_pack(const Case& c, seam::api::PrimitiveResult& r) {
   auto overlap = core::find_overlaps(uv, r.cut.triangles, chart_of);
   if (!overlap.ok()) fail("find_overlaps refused the packed layout");
   if (overlap->between_charts_area > 0) fail("two packed charts overlap");
-  // The default map is injective; packing moves each chart by a similarity and rounds to float32,
-  // which moves a UV by half a unit in the last place (<= 2^-24 in the unit square). Where the
+  // The default map is injective; packing moves each chart by a similarity and rounds to the UV
+  // grid, which moves a UV by half a step (2^-25 in the unit square). Where the
   // map only touches itself (two boundary edges from one vertex on one line: F15), that can open a
   // sliver at most a few such units wide along an edge: allowed up to the edges' total length
   // times 2^-22; anything wider is a real fold.
