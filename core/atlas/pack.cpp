@@ -83,6 +83,22 @@ double side_lower_bound(const std::vector<Vec2>& sizes, double margin_fraction) 
   return std::max((b + std::sqrt(b * b + 4 * a * area)) / (2 * a), longest / (1 - f));
 }
 
+// Bisects the square side in (lo, hi], `fits(hi)` known true, for the smallest side `fits`
+// accepts: at most `steps` halvings, stopping within `tolerance` of the side. Returns the last
+// side that fit; `fits` keeps what it packed there.
+template <class Fits>
+double bisect_side(double lo, double hi, int steps, double tolerance, Fits&& fits) {
+  for (int it = 0; it < steps && hi - lo > tolerance * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (fits(mid)) {
+      hi = mid;
+    } else {
+      lo = mid;
+    }
+  }
+  return hi;
+}
+
 // The smallest square side (by bisection, to 1e-4 of the side) that the order packs into, and
 // its slots. `beat`, the best side of another order: first tried 1e-4 below it, and if the
 // order does not pack there it is not bisected (nullopt), so a losing order costs one pass.
@@ -100,16 +116,11 @@ std::optional<double> smallest_square(const std::vector<Vec2>& sizes, const std:
     hi *= 1.1;
   }
   slots = trial;
-  for (int it = 0; it < 24 && hi - lo > 1e-4 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    if (pack_square(sizes, order, mid, margin_fraction, rotate, trial)) {
-      hi = mid;
-      slots = trial;
-    } else {
-      lo = mid;
-    }
-  }
-  return hi;
+  return bisect_side(lo, hi, 24, 1e-4, [&](double side) {
+    if (!pack_square(sizes, order, side, margin_fraction, rotate, trial)) return false;
+    slots = trial;
+    return true;
+  });
 }
 
 }  // namespace
@@ -215,16 +226,12 @@ double smallest_profile_square(const std::vector<detail::ProfileChart>& charts, 
     return std::numeric_limits<double>::infinity();
   }
   slots = trial;
-  for (int it = 0; it < 20 && hi - lo > 1e-3 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    if (detail::profile_pack_square(charts, order, mid, margin_fraction * mid, rotate, kColumns, trial)) {
-      hi = mid;
-      slots = trial;
-    } else {
-      lo = mid;
-    }
-  }
-  return hi;
+  return bisect_side(lo, hi, 20, 1e-3, [&](double side) {
+    if (!detail::profile_pack_square(charts, order, side, margin_fraction * side, rotate, kColumns, trial))
+      return false;
+    slots = trial;
+    return true;
+  });
 }
 
 }  // namespace
