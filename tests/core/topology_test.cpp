@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/icosphere.h"
 #include "fixtures.h"
 #include "test_data.h"
 
@@ -43,6 +44,26 @@ TEST_CASE("genus, Euler characteristic and boundary loops of the fixtures") {
     CHECK(t.components[0].genus == c.genus);
     CHECK(t.components[0].boundary_loops == c.loops);
     CHECK(t.boundary_loops.size() == c.loops);
+  }
+}
+
+TEST_CASE("core::icosphere: 10 x 4^l + 2 vertices on the unit sphere, 20 x 4^l outward faces, a closed sphere") {
+  for (int levels = 0; levels <= 3; ++levels) {
+    CAPTURE(levels);
+    const IndexedMesh m = icosphere(levels);
+    const std::size_t four = std::size_t{1} << (2 * levels);
+    CHECK(m.positions.size() == 10 * four + 2);
+    CHECK(m.triangles.size() == 20 * four);
+    for (const Vec3& p : m.positions) CHECK(p.norm() == doctest::Approx(1.0).epsilon(1e-12));
+    // Counter-clockwise seen from outside: each face's normal points away from the centre.
+    for (const Triangle& t : m.triangles) {
+      const Vec3 n = (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
+      CHECK(n.dot(m.positions[t[0]] + m.positions[t[1]] + m.positions[t[2]]) > 0);
+    }
+    const Topology t = topology_of({m.positions, m.triangles});
+    REQUIRE(t.components.size() == 1);
+    CHECK(t.components[0].genus == 0);
+    CHECK(t.components[0].boundary_loops == 0);
   }
 }
 
