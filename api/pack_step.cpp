@@ -203,11 +203,11 @@ double orientation(const std::vector<std::array<float, 2>>& uv, const core::Tria
 }
 
 // The member's triangles that the rounding of the placement to the grid turned over or
-// flattened get a corner moved to a neighbouring grid point where that restores their turn without turning
-// another triangle at that corner (core::restore_turns, the nudge parameterize applies to its
-// own rounding). Untangled lscm/arap pieces hold slivers the placement's rotation and
-// rounding turned over (bench6 arap and skinned lscm, one each). Returns how many stay turned.
-// O(F) when nothing turned.
+// flattened get a corner moved to a neighbouring grid point where that restores their turn
+// without turning another triangle at that corner (core::restore_turns, the nudge parameterize
+// applies to its own rounding). Untangled lscm/arap pieces hold slivers the placement's
+// rotation and rounding turned over (bench6 arap and skinned lscm, one each). Returns how many
+// stay turned. O(F) when nothing turned.
 std::size_t restore_member_turns(PrimitiveResult& r, const std::vector<double>& signs) {
   bool turned = false;
   for (std::size_t t = 0; t < signs.size() && !turned; ++t) {

@@ -482,6 +482,7 @@ Float32Rounding round_to_float32(const DiscPatch& patch, std::vector<Vec2>& uv) 
 
 Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<const double> want,
                               std::vector<Vec2>& uv) {
+  constexpr int kRestoreReach = 4;
   auto turns_right = [&](std::uint32_t t) {
     const Triangle& tri = triangles[t];
     const double area = cross2(uv[tri[0]], uv[tri[1]], uv[tri[2]]);
@@ -506,15 +507,19 @@ Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<con
   for (std::uint32_t t : bad) {
     if (turns_right(t)) continue;  // fixed by a neighbour's nudge
     bool fixed = false;
-    for (int corner = 0; corner < 3 && !fixed; ++corner) {
-      const std::uint32_t v = triangles[t][corner];
-      const Vec2 old = uv[v];
-      for (int dx = -1; dx <= 1 && !fixed; ++dx) {
-        for (int dy = -1; dy <= 1 && !fixed; ++dy) {
-          if (dx == 0 && dy == 0) continue;
-          uv[v] = Vec2(step(old.x(), dx), step(old.y(), dy));
-          fixed = star_ok(v);
-          if (!fixed) uv[v] = old;
+    // Rings of growing radius: the nearest grid points first (one step, as a rounding
+    // error is), then up to kRestoreReach steps for a sliver thinner than the grid.
+    for (int reach = 1; reach <= kRestoreReach && !fixed; ++reach) {
+      for (int corner = 0; corner < 3 && !fixed; ++corner) {
+        const std::uint32_t v = triangles[t][corner];
+        const Vec2 old = uv[v];
+        for (int dx = -reach; dx <= reach && !fixed; ++dx) {
+          for (int dy = -reach; dy <= reach && !fixed; ++dy) {
+            if (std::max(std::abs(dx), std::abs(dy)) != reach) continue;  // on this ring only
+            uv[v] = Vec2(step(old.x(), dx), step(old.y(), dy));
+            fixed = star_ok(v);
+            if (!fixed) uv[v] = old;
+          }
         }
       }
     }

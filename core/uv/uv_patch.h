@@ -118,9 +118,10 @@ struct Float32Rounding {
 
 /// Restores, after a rounding to the grid, the turn the triangles had before it: a triangle t
 /// with want[t] != 0 whose signed area on `uv` is not strictly of want[t]'s sign gets a corner
-/// moved to a neighbouring grid point (one kUvGrid step in x and/or y, staying in [0,1];
-/// corners in order, moves x-major from (-1, -1)) when that restores it without losing the
-/// wanted turn of any other triangle at the moved vertex. Triangles with want[t] == 0 are free.
+/// moved to a nearby grid point (staying in [0,1]) when that restores it without losing the
+/// wanted turn of any other triangle at the moved vertex: first the eight neighbours one
+/// kUvGrid step away (corners in order, moves x-major from (-1, -1)), then the rings 2, 3 and 4
+/// steps away, for a corner of a sliver thinner than the grid (fuzz finding F19). Triangles with want[t] == 0 are free.
 /// `uv` lies on the grid and stays there. O(F) when nothing is turned, plus O(V + F) for the
 /// vertex stars when something is. The pack step calls it after placing charts.
 Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<const double> want, std::vector<Vec2>& uv);
