@@ -69,8 +69,9 @@ ApiResult<core::PackOptions> atlas_options(const PackParams& params, std::size_t
 /// its own group). Each group packs with atlas_options (PackOutcome::texture_size says which
 /// texture); placed UVs are rounded to core::kUvGrid, triangles the rounding turned get
 /// core::restore_turns, and a group whose placed layout overlaps is untangled on its placed
-/// UVs and packed once more. Errors: kInvalidParameter (atlas_options refused a group), kInternal (the packer refused a
-/// chart: a bug upstream), kTimeout (cancelled). O(UV vertices + triangles) plus the packer's cost.
+/// UVs and packed once more. Errors: kInvalidParameter (atlas_options refused a group),
+/// kInternal (the packer refused a chart: a bug upstream), kTimeout (cancelled). O(UV vertices
+/// + triangles) plus the packer's cost.
 ApiResult<std::vector<PackOutcome>> pack_uv_sets(const GltfDocument& doc, const std::vector<PackMember>& members,
                                                  const PackParams& params, const core::CancelToken& cancel);
 

@@ -101,8 +101,8 @@ VertexStars vertex_stars(const DiscPatch& patch);
 namespace seam::core {
 
 /// The grid stored UVs lie on: multiples of 2^-24 in [0,1]. Each is a float32, and so is its
-/// 1 - v (glTF's texture v runs down, so the asset stores 1 - v): the flip is exact, and what is
-/// measured on these values is what ships. Float32 itself is finer below 1/2, where 1 - v would
+/// 1 - v (a texture space whose v runs down, as glTF's, stores 1 - v): the flip is exact, and
+/// what is measured on these values is what ships. Float32 itself is finer below 1/2, where 1 - v would
 /// round a second time (a chart measured overlap-free overlapped itself after the flip: arap on
 /// defects.glb, 6e-10 of the atlas).
 inline constexpr double kUvGrid = 0x1p-24;
@@ -120,10 +120,11 @@ struct Float32Rounding {
 /// with want[t] != 0 whose signed area on `uv` is not strictly of want[t]'s sign gets a corner
 /// moved to a nearby grid point (staying in [0,1]) when that restores it without losing the
 /// wanted turn of any other triangle at the moved vertex: first the eight neighbours one
-/// kUvGrid step away (corners in order, moves x-major from (-1, -1)), then the rings 2, 3 and 4
-/// steps away, for a corner of a sliver thinner than the grid (fuzz finding F19). Triangles with want[t] == 0 are free.
-/// `uv` lies on the grid and stays there. O(F) when nothing is turned, plus O(V + F) for the
-/// vertex stars when something is. The pack step calls it after placing charts.
+/// kUvGrid step away (corners in order, moves x-major from (-1, -1)), then the rings 2, 3 and
+/// 4 steps away, for a corner of a sliver thinner than the grid (fuzz finding F19). Triangles
+/// with want[t] == 0 are free. `uv` lies on the grid and stays there. O(F) when nothing is
+/// turned, plus O(V + F) for the vertex stars when something is. The pack step calls it after
+/// placing charts.
 Float32Rounding restore_turns(std::span<const Triangle> triangles, std::span<const double> want, std::vector<Vec2>& uv);
 
 /// Rounds `uv` (already fitted into [0,1]^2) to the grid (kUvGrid: float32 values whose 1 - v
