@@ -193,6 +193,31 @@ TEST_CASE("restore_turns gives a flattened triangle back its wanted turn, either
   CHECK(flat == before);
 }
 
+TEST_CASE("restore_turns reaches past the nearest grid points for a sliver no one-step move restores (F19)") {
+  using seam::core::Triangle;
+  using seam::core::Vec2;
+  const double g = seam::core::kUvGrid;
+  auto at = [&](double x, double y) { return Vec2(0.5 + x * g, 0.5 + y * g); };
+  // (a, b, c) lies on a line, wanted counter-clockwise: c must go up. (c, q, b), wanted
+  // counter-clockwise, needs 2 x - y > 2 of c's offset (x, y) in steps: no point one step away
+  // gives both, (2, 1) does. a and b are pinned: each is in two triangles that want opposite
+  // turns of the same corners, one of which is always wrong, so no move of theirs is taken.
+  std::vector<Vec2> uv = {at(0, 0), at(2, 0), at(1, 0), at(3, 2), at(-5, 3), at(-5, -3), at(7, 3), at(7, -3)};
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {2, 3, 1}, {0, 4, 5}, {0, 5, 4}, {1, 6, 7}, {1, 7, 6}};
+  const std::vector<double> want(triangles.size(), 1.0);
+  const std::vector<Vec2> before = uv;
+  const seam::core::Float32Rounding r = seam::core::restore_turns(triangles, want, uv);
+  CHECK(r.degenerate == 4);  // the sliver, (c, q, b), and one of each pinned pair
+  CHECK(r.remaining == 2);   // the pinned pairs
+  CHECK(uv[2] == at(3, 1));  // c two steps right and one up
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    if (v != 2) CHECK(uv[v] == before[v]);
+  }
+  auto area = [&](const Triangle& t) { return seam::core::cross2(uv[t[0]], uv[t[1]], uv[t[2]]); };
+  CHECK(area(triangles[0]) > 0);
+  CHECK(area(triangles[1]) > 0);
+}
+
 TEST_CASE("the UV grid: multiples of 2^-24 in [0,1], floats whose 1 - v is a float too") {
   using seam::core::to_uv_grid;
   CHECK(to_uv_grid(-0.5) == 0.0);
