@@ -20,6 +20,12 @@ namespace {
 // refused rather than risking the process (many requests share one machine).
 constexpr std::size_t kMaxOptimalTableBytes = std::size_t{512} << 20;
 
+// The exact seam's table for k >= 2 terminals on nv vertices: 2^(k-1) rows (terminal k-1 is
+// the root, added last) of nv (distance, back-pointer) entries.
+std::size_t optimal_table_bytes(std::size_t k, std::size_t nv) {
+  return (std::size_t{1} << (k - 1)) * nv * (sizeof(double) + sizeof(std::uint32_t));
+}
+
 Status validate_terminals(const EdgeGraph& graph, std::span<const VertexId> terminals, const char* method) {
   if (terminals.size() < 2) {
     return make_error(ErrorCode::kInvalidArgument, std::string(method) + " needs at least two terminals");
@@ -169,17 +175,15 @@ Result<SteinerTree> optimal_seam(const SearchSurface& surface, std::span<const V
   if (auto status = validate_terminals(graph, terminals, "optimal seam"); !status.ok()) return status.take_error();
   const std::size_t nv = graph.num_vertices();
   const std::size_t m = k - 1;  // terminal k-1 is the root, added last as a leaf
-  const std::size_t rows = std::size_t{1} << m;
-  if (rows * nv * (sizeof(double) + sizeof(std::uint32_t)) > kMaxOptimalTableBytes) {
+  if (optimal_table_bytes(k, nv) > kMaxOptimalTableBytes) {
     Error error = make_error(ErrorCode::kTooManyTerminals,
                              "the exact seam with " + std::to_string(k) + " terminals on " + std::to_string(nv) +
                                  " vertices needs more than " + std::to_string(kMaxOptimalTableBytes >> 20) +
                                  " MB; use fewer extrema or the skeleton method");
     // The terminal limit here depends on the mesh (the table's bytes are what is bounded):
     // the most terminals whose table fits on these vertices.
-    constexpr std::size_t kRowBytes = sizeof(double) + sizeof(std::uint32_t);
     std::size_t limit = 1;
-    while (limit < k && (std::size_t{1} << limit) * nv * kRowBytes <= kMaxOptimalTableBytes) ++limit;
+    while (limit < k && optimal_table_bytes(limit + 1, nv) <= kMaxOptimalTableBytes) ++limit;
     error.values = {{"count", k}, {"limit", limit}, {"vertices", nv}, {"limit_bytes", kMaxOptimalTableBytes}};
     return error;
   }
