@@ -82,6 +82,34 @@ Vec3 corner_cotans(const DiscPatch& patch, std::size_t t) {
     double value = s > 0 ? c / s : (c >= 0 ? kCotanClamp : -kCotanClamp);
     cot[k] = std::clamp(value, -kCotanClamp, kCotanClamp);
   }
+  return semi_definite_cotans(cot);
+}
+
+Vec3 semi_definite_cotans(Vec3 cot) {
+  // The triangle's Dirichlet energy sum_k cot_k (u_{k+1} - u_{k+2})^2 / 2 is positive
+  // semi-definite exactly when every pairwise sum and cot_0 cot_1 + cot_1 cot_2 + cot_2 cot_0
+  // are >= 0; a triangle's true cotangents make the latter 1. Clamping a cap's (one angle
+  // near pi, two near 0) or rounding a collinear triangle's breaks it: (-1e5, 1e5, 1e5) gives
+  // -1e10, and one such triangle made the whole Laplacian indefinite (CGAL's triceratops).
+  // The one negative weight is raised to -b c / (b + c), the least that keeps the energy
+  // semi-definite; true cotangents lie above that bound by 1 / (b + c), so a triangle whose
+  // cotangents were not clamped keeps them. Two negative weights (no real triangle has two
+  // obtuse angles) are set to 0.
+  int negative = 0;
+  int at = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (cot[k] < 0) {
+      ++negative;
+      at = k;
+    }
+  }
+  if (negative == 1) {
+    const double b = cot[(at + 1) % 3];
+    const double c = cot[(at + 2) % 3];
+    cot[at] = b + c > 0 ? std::max(cot[at], -b * c / (b + c)) : 0.0;
+  } else if (negative > 1) {
+    for (int k = 0; k < 3; ++k) cot[k] = std::max(cot[k], 0.0);
+  }
   return cot;
 }
 

@@ -35,9 +35,16 @@ Result<std::vector<DiscPatch>> extract_disc_patches(const HalfedgeMesh& mesh, co
 Vec3 corner_angles(const DiscPatch& patch, std::size_t t);
 
 /// Cotangents of the three corner angles, clamped to [-kCotanClamp, kCotanClamp] so a sliver
-/// cannot make the operators numerically singular.
+/// cannot make the operators numerically singular, then made semi-definite
+/// (`semi_definite_cotans`), so that every operator built from them stays so.
 Vec3 corner_cotans(const DiscPatch& patch, std::size_t t);
 inline constexpr double kCotanClamp = 1e5;
+
+/// One triangle's cotangent weights with its Dirichlet energy made positive semi-definite:
+/// a single negative weight is raised to -b c / (b + c) (b, c the other two) where it lies
+/// below, and with two or three negative weights those become 0. True cotangents of a
+/// triangle are returned unchanged (they lie 1 / (b + c) above the bound).
+Vec3 semi_definite_cotans(Vec3 cot);
 
 /// The positive semi-definite cotan Laplacian (Dirichlet energy 1/2 x^T L x):
 /// L_ij = -(cot a_ij + cot b_ij)/2, L_ii = -sum_j L_ij. n x n, O(F).

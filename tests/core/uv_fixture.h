@@ -50,6 +50,28 @@ inline Soup dome(double height, int rings = 10, int sectors = 32) {
   return s;
 }
 
+/// The flat unit disc fixture with one interior edge AB split by a cap: a new vertex M at the
+/// middle of AB, `gap` x |AB| off it towards the apex C of the triangle (C, A, B), which becomes
+/// (C, A, M), (C, M, B) and the cap (A, B, M) (angle at M near pi, at A and B near 0). A, B
+/// and M are interior vertices. Scanned and remeshed assets carry such caps (CGAL's
+/// triceratops: angles of 179.9996 degrees).
+inline Soup capped_disc(double gap, int rings = 6, int sectors = 16) {
+  Soup s = disc(rings, sectors);
+  // The band between rings 2 and 3 (of 6): C = (2, 0), A = (3, 0), B = (3, 1).
+  const std::uint32_t c = 1 + sectors, a = 1 + 2 * sectors, b = a + 1;
+  const std::array<std::uint32_t, 3> split = {c, a, b};
+  const auto it = std::find(s.triangles.begin(), s.triangles.end(), split);
+  REQUIRE(it != s.triangles.end());
+  const Vec3 middle = 0.5 * (s.positions[a] + s.positions[b]);
+  const Vec3 towards_c = (s.positions[c] - middle).normalized();
+  const auto m = static_cast<std::uint32_t>(s.positions.size());
+  s.positions.push_back(middle + gap * (s.positions[b] - s.positions[a]).norm() * towards_c);
+  *it = {c, a, m};
+  s.triangles.push_back({c, m, b});
+  s.triangles.push_back({a, b, m});
+  return s;
+}
+
 /// The flat unit disc fixture (z = 0) with every interior vertex moved by a fixed pseudo-random
 /// offset of up to a fifth of the ring spacing: irregular triangles, still a valid embedding.
 inline Soup jittered_disc(int rings = 8, int sectors = 24) {

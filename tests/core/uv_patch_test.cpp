@@ -4,8 +4,10 @@
 
 #include <doctest/doctest.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <utility>
 
@@ -84,6 +86,55 @@ TEST_CASE("the cotan Laplacian equals its triplet assembly bit for bit: symmetri
       CHECK(column_sum == doctest::Approx(0.0).epsilon(1e-12).scale(1.0));
       CHECK(laplacian.coeff(col, col) == doctest::Approx(-off.col(col).sum()).epsilon(1e-12));
     }
+  }
+}
+
+TEST_CASE("a triangle's cotangent weights are kept, or made semi-definite where clamping broke them") {
+  using seam::core::semi_definite_cotans;
+  using seam::core::Vec3;
+  // cot_0 cot_1 + cot_1 cot_2 + cot_2 cot_0: 1 for a real triangle, >= 0 for a semi-definite energy.
+  auto form = [](const Vec3& c) { return c[0] * c[1] + c[1] * c[2] + c[2] * c[0]; };
+  SUBCASE("a real triangle's cotangents come back unchanged, an obtuse one's too") {
+    for (const double degrees : {60.0, 100.0, 150.0, 179.0}) {
+      CAPTURE(degrees);
+      // An isosceles triangle with apex angle `degrees` (corner 0), its base angles equal.
+      const double apex = degrees * std::numbers::pi / 180;
+      const double base = (std::numbers::pi - apex) / 2;
+      const Vec3 cot(1 / std::tan(apex), 1 / std::tan(base), 1 / std::tan(base));
+      CHECK(form(cot) == doctest::Approx(1.0));
+      CHECK(semi_definite_cotans(cot) == cot);
+    }
+  }
+  SUBCASE("a clamped cap's negative weight is raised to the bound") {
+    // The cap of CGAL's triceratops, clamped: -1e10 before.
+    const Vec3 cap(-1e5, 1e5, 1e5);
+    CHECK(form(cap) < 0);
+    const Vec3 fixed = semi_definite_cotans(cap);
+    CHECK(fixed[0] == doctest::Approx(-5e4));
+    CHECK(fixed[1] == 1e5);
+    CHECK(fixed[2] == 1e5);
+    CHECK(form(fixed) >= -1e-6 * 1e10);
+    // The negative weight may sit at any corner.
+    CHECK(semi_definite_cotans(Vec3(1e5, 1e5, -1e5))[2] == doctest::Approx(-5e4));
+  }
+  SUBCASE("two negative weights, or one with no positive partner, become 0") {
+    CHECK(semi_definite_cotans(Vec3(-1, -2, 3)) == Vec3(0, 0, 3));
+    CHECK(semi_definite_cotans(Vec3(-1, 0, 0)) == Vec3(0, 0, 0));
+  }
+}
+
+TEST_CASE("the cotan Laplacian of a disc with a cap thinner than the clamp stays positive semi-definite") {
+  // The cap's cotangents (about 5e8 at its thin corners) are clamped to 1e5; clamped alone they
+  // gave an indefinite Laplacian, whose interior block BFF and LSCM could not factor.
+  for (const double gap : {1e-9, 1e-12, 0.0}) {
+    CAPTURE(gap);
+    const DiscPatch patch = fx::patch_of(fx::capped_disc(gap));
+    const Eigen::MatrixXd laplacian(seam::core::cotan_laplacian(patch));
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(laplacian);
+    REQUIRE(eigen.info() == Eigen::Success);
+    const double largest = eigen.eigenvalues().maxCoeff();
+    CHECK(largest > 1e4);  // the clamp is reached
+    CHECK(eigen.eigenvalues().minCoeff() >= -1e-9 * largest);
   }
 }
 
