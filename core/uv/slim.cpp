@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "core/uv/collision.h"
 #include "core/uv/distortion.h"
@@ -594,7 +595,7 @@ class ProxySystem {
 // One SLIM run between its steps: the chart, the current map and its energy, the proxy.
 struct Descent {
   const DiscPatch& patch;
-  const std::vector<TriangleOperator>& ops;
+  const std::vector<TriangleOperator>* ops;  // the chart's, or a progressive reference's
   const SlimOptions& options;
   double gap;  // boundary vertices keep this far from the boundary edges they face
   SlimResult& result;
@@ -611,7 +612,7 @@ double line_search(Descent& d, const std::vector<Vec2>& dir, double step) {
   double trial_energy = kInf;
   for (int halving = 0; halving < 30 && step > 1e-12; ++halving, step *= 0.5) {
     for (std::size_t v = 0; v < uv.size(); ++v) d.trial[v] = uv[v] + step * dir[v];
-    trial_energy = mean_energy(d.patch, d.ops, d.trial);
+    trial_energy = mean_energy(d.patch, *d.ops, d.trial);
     if (trial_energy < d.energy) break;
   }
   return trial_energy;
@@ -825,8 +826,8 @@ Status validate(std::size_t n, const std::vector<Vec2>& initial, const SlimOptio
   return Ok{};
 }
 
-// The descent loop: returns false when cancelled.
-bool descend(Descent& d, const CancelToken& cancel) {
+// The descent loop, at most `steps` steps: returns false when cancelled.
+bool descend(Descent& d, int steps, double tolerance, const CancelToken& cancel) {
   SlimResult& result = d.result;
   SlimTimings& timings = result.timings;
   // Uncapped first. Triangles squeezed to 1e-4 of their size (a long limb that no seam
@@ -834,15 +835,12 @@ bool descend(Descent& d, const CancelToken& cancel) {
   // precision; then the weights are capped and the step retried. The line search on the true
   // energy keeps every step a descent step either way.
   double weight_cap = kInf;
-  // A Tutte start is far from the optimum (its convex boundary squeezes whole regions), so it
-  // gets three times the step budget. Contact-limited steps get no more: they cost one
-  // factorization each, like the others (contact_search), and they are the budget.
-  const int max_iterations = result.tutte_start ? 3 * d.options.iterations : d.options.iterations;
+  int taken = 0;
   std::array<double, kWindow> gains{};  // relative decrease of the last kWindow steps, cyclic
-  while (result.iterations < max_iterations) {
+  while (taken < steps) {
     if (cancel.is_cancelled()) return false;
     Clock::time_point clock = Clock::now();
-    if (!d.proxy.assemble(d.ops, result.uv, weight_cap, cancel)) return false;
+    if (!d.proxy.assemble(*d.ops, result.uv, weight_cap, cancel)) return false;
     lap(timings.assemble_ms, clock);
     // Every iterate is a valid (fold-free) map, so a numerical failure of the proxy stops the
     // descent where it is instead of failing the request.
@@ -866,18 +864,114 @@ bool descend(Descent& d, const CancelToken& cancel) {
     result.uv.swap(d.trial);
     const double decrease = (d.energy - step.energy) / d.energy;
     d.energy = step.energy;
-    gains[static_cast<std::size_t>(result.iterations % kWindow)] = decrease;
+    gains[static_cast<std::size_t>(taken % kWindow)] = decrease;
+    ++taken;
     ++result.iterations;
     if (!step.collided) {
-      if (decrease < d.options.tolerance) break;
+      if (decrease < tolerance) break;
       continue;
     }
     // A contact-limited step gains unevenly (a contact released, then another met), so one
     // small gain does not mean convergence: the window's mean gain is measured instead.
     double window_gain = 0;
     for (double g : gains) window_gain += g;
-    if (result.iterations >= kWindow && window_gain < kWindow * kWindowTolerance * d.options.tolerance) break;
+    if (taken >= kWindow && window_gain < kWindow * kWindowTolerance * tolerance) break;
   }
+  return true;
+}
+
+// Progressive references (after Liu et al. 2018, "Progressive parameterizations"). A start
+// that squeezes part of the chart by many orders of magnitude (BFF's conformal map of
+// protrusions no seam reaches: singular values of 1e-8 on a camel cut through three random
+// points; Tutte's map of a chart whose boundary squeezes it) is beyond SLIM in double
+// precision: the proxy's weights span 1e12, after a step or two no direction lowers the
+// energy, and the map shipped squeezed below the UV grid (thousands of degenerate triangles).
+// Instead, every triangle gets a reference shape between its current UV shape and its 3D
+// shape, J_ref = U S^(1 - t) V^T for the current Jacobian J = U S V^T, with one t for the
+// chart chosen so that the map's singular values against the references (J J_ref^-1 =
+// U S^t U^T) stay within [1/kProgressiveStretch, kProgressiveStretch]; a few SLIM steps on
+// the references (the same proxy, line search and injectivity bounds, the energy still
+// infinite at a degenerate triangle), then new references, until the chart's own shapes are
+// within reach; then SLIM again. Only where SLIM on the chart's own shapes ended stretched
+// beyond kProgressiveStart somewhere, so every other chart keeps its map (of CGAL's 138
+// meshes with automatic extrema: cheese, femur, mpi and mpi_triang). SLIM alone does recover
+// some squeezed starts (a cup 20 radii deep, slim_test), so it runs first.
+constexpr double kProgressiveStretch = 300;
+constexpr double kProgressiveStart = 1e4;
+constexpr int kProgressiveRounds = 24;
+constexpr int kProgressiveSteps = 4;
+
+// s1 >= s2 > 0 of a fold-free triangle's Jacobian; s2 = det / s1, since svd_2x2's q - r
+// cancels for a squeezed triangle.
+std::pair<double, double> singular_values(const Eigen::Matrix2d& j, const Svd2& svd) {
+  return {svd.s1, j.determinant() / svd.s1};
+}
+
+// The largest |log s| over the chart's triangles: how far the map is from isometric anywhere.
+double largest_log_stretch(const DiscPatch& patch, const std::vector<TriangleOperator>& ops,
+                           const std::vector<Vec2>& uv) {
+  double largest = 0;
+  for (std::size_t t = 0; t < ops.size(); ++t) {
+    if (ops[t].area == 0) continue;
+    const Eigen::Matrix2d j = jacobian(ops[t], patch.triangles[t], uv);
+    const auto [s1, s2] = singular_values(j, svd_2x2(j));
+    largest = std::max({largest, std::abs(std::log(s1)), std::abs(std::log(s2))});
+  }
+  return largest;
+}
+
+// The references for fraction t: grad_ref = J_ref^-T grad and area_ref = det(J_ref) area (the
+// reference triangle is J_ref applied to the 3D triangle's local frame). Weighting by the
+// reference's own area keeps the proxy's entries (area x |grad|^2) of one magnitude: with the
+// 3D areas, a squeezed triangle's were 1e16 times its neighbours' and Cholesky failed.
+void progressive_references(const DiscPatch& patch, const std::vector<TriangleOperator>& ops,
+                            const std::vector<Vec2>& uv, double t, std::vector<TriangleOperator>& reference) {
+  for (std::size_t k = 0; k < ops.size(); ++k) {
+    reference[k] = ops[k];
+    if (ops[k].area == 0) continue;
+    const Eigen::Matrix2d j = jacobian(ops[k], patch.triangles[k], uv);
+    const Svd2 svd = svd_2x2(j);
+    const auto [s1, s2] = singular_values(j, svd);
+    // J_ref^-T = U S^-(1 - t) V^T = (p1 + p2) / 2 U V^T + (p1 - p2) / 2 U diag(1, -1) V^T, the
+    // two being svd_2x2's rotation and reflection (J = q rotation + r reflection).
+    const double p1 = std::pow(s1, t - 1);
+    const double p2 = std::pow(s2, t - 1);
+    const Vec2& rot = svd.rotation;
+    const Vec2& refl = svd.reflection;
+    Eigen::Matrix2d rotation;
+    rotation << rot.x(), -rot.y(), rot.y(), rot.x();
+    Eigen::Matrix2d reflection;
+    reflection << refl.x(), refl.y(), refl.y(), -refl.x();
+    const Eigen::Matrix2d inverse_transpose = 0.5 * (p1 + p2) * rotation + 0.5 * (p1 - p2) * reflection;
+    reference[k].grad12[0] = inverse_transpose * ops[k].grad12[0];
+    reference[k].grad12[1] = inverse_transpose * ops[k].grad12[1];
+    reference[k].area = ops[k].area / (p1 * p2);
+  }
+}
+
+// The progressive rounds: returns false when cancelled. Leaves d on the chart's own operators.
+bool descend_progressively(Descent& d, const std::vector<TriangleOperator>& ops, const CancelToken& cancel) {
+  const double reach = std::log(kProgressiveStretch);
+  double stretch = largest_log_stretch(d.patch, ops, d.result.uv);
+  std::vector<TriangleOperator> reference(ops.size());
+  for (int round = 0; round < kProgressiveRounds && std::isfinite(stretch) && stretch > reach; ++round) {
+    if (cancel.is_cancelled()) return false;
+    progressive_references(d.patch, ops, d.result.uv, reach / stretch, reference);
+    d.ops = &reference;
+    d.energy = mean_energy(d.patch, reference, d.result.uv);
+    // A fixed number of steps: against references within reach the energy sits near 4, and
+    // the relative tolerance would stop a descent that still gains.
+    if (!descend(d, kProgressiveSteps, 0.0, cancel)) return false;
+    ++d.result.progressive_rounds;
+    const double next = largest_log_stretch(d.patch, ops, d.result.uv);
+    // A round that took the largest stretch down by less than half its reach (a factor of 17)
+    // ends them, and SLIM goes on from here on the chart's own shapes: a genus-133 chart
+    // (cheese) gained a few percent of its reach per round at 0.3 s each.
+    if (!(next < stretch - 0.5 * reach)) break;
+    stretch = next;
+  }
+  d.ops = &ops;
+  d.energy = mean_energy(d.patch, ops, d.result.uv);
   return true;
 }
 
@@ -900,7 +994,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
     // Boundary vertices keep 1e-4 of the chart's size from the boundary edges they face: far
     // below a texel, far above float32's resolution wherever the chart is packed.
     Descent d{.patch = patch,
-              .ops = ops,
+              .ops = &ops,
               .options = options,
               .gap = 1e-4 * std::sqrt(area_3d),
               .result = result,
@@ -908,7 +1002,29 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
               .proxy = ProxySystem(patch, options.proxy == SlimProxy::kAnisotropic ? 2 : 1, options.vertex_order),
               .trial = std::vector<Vec2>(n)};
     lap(result.timings.analyze_ms, clock);
-    if (!descend(d, cancel)) return cancelled_error("SLIM");
+    // A Tutte start is far from the optimum (its convex boundary squeezes whole regions), so it
+    // gets three times the step budget. Contact-limited steps get no more: they cost one
+    // factorization each, like the others (contact_search), and they are the budget.
+    const int steps = result.tutte_start ? 3 * options.iterations : options.iterations;
+    std::vector<Vec2> start;
+    if (options.progressive) start = result.uv;
+    if (!descend(d, steps, options.tolerance, cancel)) return cancelled_error("SLIM");
+    // Where SLIM stalled on a squeezed map: from the start again, progressive references, then
+    // SLIM; the map of lower energy is kept (both fold-free and, with options.injective,
+    // injective). From the stalled map instead, dino and cow cut through three random points
+    // kept 1,283 and 136 triangles below the UV grid.
+    if (options.progressive && largest_log_stretch(patch, ops, result.uv) > std::log(kProgressiveStart)) {
+      std::vector<Vec2> stalled = std::move(result.uv);
+      const double stalled_energy = d.energy;
+      result.uv = std::move(start);
+      if (!descend_progressively(d, ops, cancel) || !descend(d, steps, options.tolerance, cancel)) {
+        return cancelled_error("SLIM");
+      }
+      if (!(d.energy < stalled_energy)) {
+        result.uv = std::move(stalled);
+        d.energy = stalled_energy;
+      }
+    }
     result.energy_end = d.energy;
   }
   result.injective = !has_fold(patch, ops, result.uv) && boundary_is_simple(patch, result.uv);

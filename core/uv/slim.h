@@ -33,6 +33,11 @@ struct SlimOptions {
   /// still needs to hold get springs instead: the larger of this and the solves one
   /// factorization of the proxy is worth (0..100000).
   int contact_solves = 32;
+  /// Where SLIM ends with a triangle stretched beyond 1e4 or squeezed below 1e-4 (its proxy
+  /// found no descent from a start squeezed by orders of magnitude), rounds on progressive
+  /// reference shapes (slim.cpp) and SLIM again; off, such a map is returned as it is, below
+  /// float32's resolution where it is extreme.
+  bool progressive = true;
   /// When not empty: a fill-reducing order of the patch's vertices that the proxy's analysis
   /// uses instead of ordering the system itself (the one BFF's factorization used: at 1M
   /// faces METIS takes about 2.6 s of each analysis). Borrowed: must outlive the call.
@@ -70,6 +75,9 @@ struct SlimResult {
   double energy_start = 0;
   double energy_end = 0;
   bool tutte_start = false;  ///< the given start had folds, so SLIM started from a Tutte map
+  /// Rounds on progressive reference shapes (options.progressive): only where SLIM stalled on
+  /// a map stretched beyond 1e4 or squeezed below 1e-4 somewhere, 0 otherwise.
+  int progressive_rounds = 0;
   /// The proxy system could not be factored (numerically not positive definite) or solved:
   /// SLIM stopped at its last iterate, which is still fold-free.
   bool numerical_stop = false;

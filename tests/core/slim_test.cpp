@@ -1,23 +1,24 @@
 // SLIM (symmetric Dirichlet) refinement: isometries are fixed points, the energy only goes
 // down, no fold is ever introduced, folded starts fall back to Tutte's embedding, both proxies
 // reach the same optimum, and bad arguments and cancellation are typed errors.
-#include <doctest/doctest.h>
+#include "core/uv/slim.h"
 
-#include <cmath>
-#include <limits>
+#include <doctest/doctest.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/atlas/overlap.h"
 #include "core/extrema/extrema.h"
 #include "core/mesh/cut.h"
+#include "core/mesh/topology.h"
 #include "core/seam/seam.h"
 #include "core/uv/bff.h"
 #include "core/uv/collision.h"
-#include "core/uv/slim.h"
-#include "core/mesh/topology.h"
+#include "core/uv/distortion.h"
 #include "core/uv/uv_patch.h"
 #include "test_data.h"
 #include "uv_fixture.h"
@@ -121,6 +122,47 @@ TEST_CASE("the injective step bound stops exactly where a triangle degenerates")
   // Moving everything rigidly never degenerates anything.
   std::vector<Vec2> shift(uv.size(), Vec2(3, -2));
   CHECK(max_injective_step(patch, uv, shift) == std::numeric_limits<double>::infinity());
+}
+
+TEST_CASE("a start squeezed by orders of magnitude is recovered on progressive references") {
+  // A cup 40 radii deep: BFF's map of it folds, Tutte's squeezes its bottom to singular values
+  // of 1e-8 and less, and SLIM's proxy alone finds no descent after a few steps (energy 2.6e14).
+  // At 20 radii (BFF's start squeezed to 2e-9, unfolded) SLIM alone recovers, and no
+  // progressive round runs.
+  const DiscPatch patch = fx::patch_of(fx::cup(0.1, 4.0));
+  const std::vector<Vec2> start = bff_start(patch);
+  // The smallest singular value over the triangles (0 where one folds or degenerates).
+  auto smallest = [&](const std::vector<Vec2>& uv) {
+    double s = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+      const auto& tri = patch.triangles[t];
+      const auto j = triangle_jacobian(patch.positions[tri[0]], patch.positions[tri[1]], patch.positions[tri[2]],
+                                       uv[tri[0]], uv[tri[1]], uv[tri[2]]);
+      s = std::min(s, j.sign > 0 ? j.s2 : 0.0);
+    }
+    return s;
+  };
+  auto plain = flatten_slim(patch, start, {.progressive = false}, CancelToken::none());
+  auto progressive = flatten_slim(patch, start, {}, CancelToken::none());
+  REQUIRE(plain.ok());
+  REQUIRE(progressive.ok());
+  CHECK(plain->progressive_rounds == 0);
+  CHECK(progressive->progressive_rounds > 0);
+  CAPTURE(plain->energy_end);
+  CAPTURE(progressive->energy_end);
+  CHECK(smallest(plain->uv) < 1e-6);  // still squeezed: SLIM alone stalls
+  CHECK(smallest(progressive->uv) > 1e-3);
+  CHECK(progressive->energy_end < 1e-6 * plain->energy_end);
+  CHECK(progressive->injective);
+  // Where SLIM alone recovers (a cup 20 radii deep, its start squeezed to 2e-9), no round runs
+  // and the map is the same either way.
+  const DiscPatch shallow = fx::patch_of(fx::cup(0.1, 2.0));
+  auto alone = flatten_slim(shallow, bff_start(shallow), {}, CancelToken::none());
+  auto alone_plain = flatten_slim(shallow, bff_start(shallow), {.progressive = false}, CancelToken::none());
+  REQUIRE(alone.ok());
+  REQUIRE(alone_plain.ok());
+  CHECK(alone->progressive_rounds == 0);
+  CHECK(alone->uv == alone_plain->uv);
 }
 
 TEST_CASE("SLIM refuses bad arguments and stops when cancelled") {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "core/extrema/extrema.h"
@@ -69,6 +70,30 @@ inline Soup capped_disc(double gap, int rings = 6, int sectors = 16) {
   *it = {c, a, m};
   s.triangles.push_back({c, m, b});
   s.triangles.push_back({a, b, m});
+  return s;
+}
+
+/// A cup: a tube of radius `radius` and length `length` along -z, open at z = 0 and closed by a
+/// fan at the bottom. A disc whose conformal map (BFF's, with u = 0 on the rim) shrinks the
+/// bottom by about exp(-length / radius): the start that SLIM alone cannot recover from.
+inline Soup cup(double radius, double length, int around = 16, int along = 60) {
+  Soup s;
+  for (int i = 0; i <= along; ++i) {
+    for (int k = 0; k < around; ++k) {
+      const double a = 2 * std::numbers::pi * k / around;
+      s.positions.emplace_back(radius * std::cos(a), radius * std::sin(a), -length * i / along);
+    }
+  }
+  auto id = [&](int i, int k) { return static_cast<std::uint32_t>(i * around + (k + around) % around); };
+  for (int i = 0; i < along; ++i) {
+    for (int k = 0; k < around; ++k) {
+      s.triangles.push_back({id(i, k), id(i + 1, k), id(i + 1, k + 1)});
+      s.triangles.push_back({id(i, k), id(i + 1, k + 1), id(i, k + 1)});
+    }
+  }
+  const auto bottom = static_cast<std::uint32_t>(s.positions.size());
+  s.positions.emplace_back(0, 0, -length);
+  for (int k = 0; k < around; ++k) s.triangles.push_back({id(along, k + 1), id(along, k), bottom});
   return s;
 }
 
