@@ -88,7 +88,8 @@ struct UvResult {
   double overlap_area = 0;
   double overlap_fraction = 0;
   /// SLIM charts whose start overlapped itself (restarted from Tutte), and charts that are not
-  /// injective after flattening (any method; kSlim with `injective` leaves none).
+  /// injective after flattening (any method; kSlim with `injective` leaves only charts it
+  /// flattened without the collision bounds because they stayed squeezed, SlimOptions::injective).
   std::size_t overlapping_starts = 0;
   std::size_t charts_not_injective = 0;
   /// SLIM charts flattened on a coarse copy (UvOptions::multilevel_min_faces), and those large
@@ -107,7 +108,8 @@ struct UvResult {
 /// BFF start, that chart keeps the BFF map (method_used reports kBff if any chart did).
 /// kSlim starts from BFF (or from Tutte's embedding where BFF folds or overlaps itself), never
 /// adds a fold and, with options.injective, keeps each chart's boundary a simple curve, so no
-/// chart overlaps itself; the shelf packing keeps charts apart. The stored UVs' overlap is
+/// chart overlaps itself (but a chart it could only unsqueeze without that bound, which the
+/// pack step then cuts into pieces); the shelf packing keeps charts apart. The stored UVs' overlap is
 /// measured exactly (overlap_area).
 /// Errors: kInvalidArgument (options out of range), kEmptyMesh (no faces),
 /// kTopologyViolation (a component is not a disc), kSolverFailed, kCancelled.

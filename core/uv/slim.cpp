@@ -597,6 +597,7 @@ struct Descent {
   const DiscPatch& patch;
   const std::vector<TriangleOperator>* ops;  // the chart's, or a progressive reference's
   const SlimOptions& options;
+  bool injective;  // options.injective, until a squeezed chart is given up to the pack step
   double gap;  // boundary vertices keep this far from the boundary edges they face
   SlimResult& result;
   double energy;
@@ -755,7 +756,7 @@ StepOutcome bounded_step(Descent& d, const std::vector<Vec2>& direction) {
   double step = std::min(1.0, 0.9 * max_injective_step(d.patch, d.result.uv, direction));
   lap(timings.line_search_ms, clock);
   StepOutcome out;
-  if (d.options.injective) {
+  if (d.injective) {
     const CollisionStep collision = max_collision_free_step(d.patch, d.result.uv, direction, step, d.gap);
     if (collision.limited) {
       ++d.result.collision_limited_steps;
@@ -964,15 +965,53 @@ bool descend_progressively(Descent& d, const std::vector<TriangleOperator>& ops,
     if (!descend(d, kProgressiveSteps, 0.0, cancel)) return false;
     ++d.result.progressive_rounds;
     const double next = largest_log_stretch(d.patch, ops, d.result.uv);
-    // A round that took the largest stretch down by less than half its reach (a factor of 17)
-    // ends them, and SLIM goes on from here on the chart's own shapes: a genus-133 chart
-    // (cheese) gained a few percent of its reach per round at 0.3 s each.
-    if (!(next < stretch - 0.5 * reach)) break;
+    // With the boundary's collision bounds, a round that took the largest stretch down by less
+    // than half its reach (a factor of 17) ends them, and SLIM goes on from here on the chart's
+    // own shapes: a genus-133 chart (cheese) gained a few percent of its reach per round at
+    // 0.3 s each. Without them, rounds go on while they gain (cheese: 8 rounds to energy 4.7).
+    if (!(next < stretch - (d.injective ? 0.5 * reach : 0.0))) break;
     stretch = next;
   }
   d.ops = &ops;
   d.energy = mean_energy(d.patch, ops, d.result.uv);
   return true;
+}
+
+bool squeezed(const Descent& d, const std::vector<TriangleOperator>& ops) {
+  return largest_log_stretch(d.patch, ops, d.result.uv) > std::log(kProgressiveStart);
+}
+
+// From `start` again on progressive references, then SLIM for `steps`; the map of lower energy
+// (this one or the one before) is kept. Returns false when cancelled.
+bool retry_progressively(Descent& d, const std::vector<TriangleOperator>& ops, const std::vector<Vec2>& start,
+                         int steps, const CancelToken& cancel) {
+  std::vector<Vec2> before = std::move(d.result.uv);
+  const double before_energy = d.energy;
+  d.result.uv = start;
+  if (!descend_progressively(d, ops, cancel) || !descend(d, steps, d.options.tolerance, cancel)) return false;
+  if (!(d.energy < before_energy)) {
+    d.result.uv = std::move(before);
+    d.energy = before_energy;
+  }
+  return true;
+}
+
+// Where SLIM stalled on a squeezed map (a triangle still stretched beyond kProgressiveStart),
+// it starts again from its start on progressive references (from the stalled map instead, dino
+// and cow cut through three random points kept 1,283 and 136 triangles below the UV grid).
+// Where the boundary's collision bounds stop that too (a chart its own boundary squeezes:
+// cheese, genus 133, whose cut graph through 133 handles holds 9,888 of its 13,838 vertices,
+// stayed at energy 1.7e13), once more without them: cheese then reaches 4.7, its boundary
+// overlaps itself (SlimResult::injective false), and the pack step cuts the chart into
+// overlap-free pieces (untangle.h), as it does lscm's and bff's maps. Returns false when
+// cancelled.
+bool recover_squeezed(Descent& d, const std::vector<TriangleOperator>& ops, const std::vector<Vec2>& start, int steps,
+                      const CancelToken& cancel) {
+  if (!squeezed(d, ops)) return true;
+  if (!retry_progressively(d, ops, start, steps, cancel)) return false;
+  if (!d.injective || !squeezed(d, ops)) return true;
+  d.injective = false;
+  return retry_progressively(d, ops, start, steps, cancel);
 }
 
 }  // namespace
@@ -996,6 +1035,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
     Descent d{.patch = patch,
               .ops = &ops,
               .options = options,
+              .injective = options.injective,
               .gap = 1e-4 * std::sqrt(area_3d),
               .result = result,
               .energy = result.energy_start,
@@ -1009,22 +1049,7 @@ Result<SlimResult> flatten_slim(const DiscPatch& patch, std::vector<Vec2> initia
     std::vector<Vec2> start;
     if (options.progressive) start = result.uv;
     if (!descend(d, steps, options.tolerance, cancel)) return cancelled_error("SLIM");
-    // Where SLIM stalled on a squeezed map: from the start again, progressive references, then
-    // SLIM; the map of lower energy is kept (both fold-free and, with options.injective,
-    // injective). From the stalled map instead, dino and cow cut through three random points
-    // kept 1,283 and 136 triangles below the UV grid.
-    if (options.progressive && largest_log_stretch(patch, ops, result.uv) > std::log(kProgressiveStart)) {
-      std::vector<Vec2> stalled = std::move(result.uv);
-      const double stalled_energy = d.energy;
-      result.uv = std::move(start);
-      if (!descend_progressively(d, ops, cancel) || !descend(d, steps, options.tolerance, cancel)) {
-        return cancelled_error("SLIM");
-      }
-      if (!(d.energy < stalled_energy)) {
-        result.uv = std::move(stalled);
-        d.energy = stalled_energy;
-      }
-    }
+    if (options.progressive && !recover_squeezed(d, ops, start, steps, cancel)) return cancelled_error("SLIM");
     result.energy_end = d.energy;
   }
   result.injective = !has_fold(patch, ops, result.uv) && boundary_is_simple(patch, result.uv);

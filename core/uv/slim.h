@@ -27,7 +27,10 @@ struct SlimOptions {
   /// every step so that no boundary vertex reaches a boundary edge (collision.h). Costs one
   /// O(B) grid pass per step; it changes nothing on steps that collide with nothing. Boundary
   /// vertices keep 1e-4 of the chart's size (sqrt of its area) from the edges they face, so
-  /// that rounding the map to float32 cannot close the gap.
+  /// that rounding the map to float32 cannot close the gap. One exception, with `progressive`:
+  /// a chart that stays squeezed beyond 1e4 with its boundary held apart is flattened once more
+  /// without the bounds, and that fold-free map, if of lower energy, is returned with
+  /// SlimResult::injective false (the pack step cuts it into overlap-free pieces).
   bool injective = true;
   /// Solves a contact-limited step may spend on linearised contacts before the vertices it
   /// still needs to hold get springs instead: the larger of this and the solves one
@@ -35,8 +38,9 @@ struct SlimOptions {
   int contact_solves = 32;
   /// Where SLIM ends with a triangle stretched beyond 1e4 or squeezed below 1e-4 (its proxy
   /// found no descent from a start squeezed by orders of magnitude), rounds on progressive
-  /// reference shapes (slim.cpp) and SLIM again; off, such a map is returned as it is, below
-  /// float32's resolution where it is extreme.
+  /// reference shapes (slim.cpp) from the start and SLIM again, and where that too stays
+  /// squeezed with `injective`, once more without the collision bounds; off, such a map is
+  /// returned as it is, below float32's resolution where it is extreme.
   bool progressive = true;
   /// When not empty: a fill-reducing order of the patch's vertices that the proxy's analysis
   /// uses instead of ordering the system itself (the one BFF's factorization used: at 1M
@@ -90,7 +94,8 @@ struct SlimResult {
   /// round, plus one per round), in right-hand sides.
   int contact_solves = 0;
   /// The result's boundary is a simple closed curve and no triangle folds: the map is
-  /// injective (always true with options.injective, up to the rounding of the contact times).
+  /// injective (true with options.injective, up to the rounding of the contact times, except
+  /// for a squeezed chart flattened without the bounds: see options.injective).
   bool injective = false;
   SlimTimings timings;
 };

@@ -165,6 +165,41 @@ TEST_CASE("a start squeezed by orders of magnitude is recovered on progressive r
   CHECK(alone->uv == alone_plain->uv);
 }
 
+TEST_CASE("a chart its own boundary squeezes is flattened without the collision bounds, for the pack step to cut") {
+  // CGAL's cheese (genus 133) cut to one disc: the cut graph through its handles holds most of
+  // the chart's vertices, BFF folds, Tutte's start squeezes triangles to 1e-21 of the chart,
+  // and with the boundary held apart even the progressive rounds stall (energy 1.7e13 or more).
+  const HalfedgeMesh mesh = seam::test_data::load_cgal_halfedge("cheese");
+  auto extrema = find_extrema(mesh);  // one: the seam proper is a single edge, the cut graph all else
+  REQUIRE(extrema.ok());
+  auto seam = compute_seam(mesh, *extrema);
+  REQUIRE(seam.ok());
+  auto cut = cut_along_edges(mesh, all_cut_edges(*seam));
+  REQUIRE(cut.ok());
+  auto patches = extract_disc_patches(cut->mesh, compute_topology(cut->mesh));
+  REQUIRE(patches.ok());
+  REQUIRE(patches->size() == 1);
+  const DiscPatch& patch = patches->front();
+  const std::vector<Vec2> start = bff_start(patch);
+  auto plain = flatten_slim(patch, start, {.progressive = false}, CancelToken::none());
+  auto given_up = flatten_slim(patch, start, {}, CancelToken::none());
+  REQUIRE(plain.ok());
+  REQUIRE(given_up.ok());
+  CHECK(plain->tutte_start);
+  CHECK(plain->injective);
+  CHECK(plain->energy_end > 1e12);
+  // Fold-free and near isometric, but its boundary may now cross itself: not injective.
+  CHECK(given_up->progressive_rounds > 0);
+  CHECK(given_up->energy_end < 10);
+  CHECK_FALSE(given_up->injective);
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const auto& tri = patch.triangles[t];
+    const auto j = triangle_jacobian(patch.positions[tri[0]], patch.positions[tri[1]], patch.positions[tri[2]],
+                                     given_up->uv[tri[0]], given_up->uv[tri[1]], given_up->uv[tri[2]]);
+    CHECK(j.sign > 0);
+  }
+}
+
 TEST_CASE("SLIM refuses bad arguments and stops when cancelled") {
   const DiscPatch patch = fx::patch_of(fx::dome(0.8));
   const std::vector<Vec2> start = bff_start(patch);
