@@ -169,7 +169,7 @@ Status run_dijkstra(const EdgeGraph& graph, Heap& heap, Visitor& visitor, const 
   return Ok{};
 }
 
-/// The same with a poll counter that starts at zero for this search.
+/// The same with a poll counter that starts at zero for this search. Errors: kCancelled.
 template <class Heap, class Visitor>
 Status run_dijkstra(const EdgeGraph& graph, Heap& heap, Visitor& visitor, const CancelToken& cancel,
                     const char* what) {

@@ -55,10 +55,11 @@ class PathSearch {
   /// The same with the estimate max(straight line, floor[v]): `floor` (empty: none) must be
   /// a lower bound on every vertex's distance to the target that no edge's weight undercuts
   /// (floor[u] <= weight(u, v) + floor[v]), e.g. the distance to the nearest of a set of
-  /// vertices that holds the target.
+  /// vertices that holds the target. Errors: kCancelled.
   Status run_astar(VertexId target, std::span<const Vec3> positions, std::span<const double> floor,
                    const CancelToken& cancel = CancelToken::none());
   /// Like run() without targets, but also stops once `max_settled` vertices are settled.
+  /// Errors: kCancelled.
   Status run_limited(double max_distance, std::size_t max_settled, const CancelToken& cancel = CancelToken::none()) {
     max_settled_ = max_settled;
     auto st = run_impl({}, max_distance, false, cancel);
