@@ -140,6 +140,7 @@ class Connection final : public httplib::Stream {
     head_len_ = 0;
     head_out_ = sanitized_head(head);
     head_pos_ = 0;
+    response_head_pending_ = true;
     body_served_ = 0;
     chunked_ = head.chunked;
     framing_ = ChunkedFraming();
@@ -171,15 +172,9 @@ class Connection final : public httplib::Stream {
     return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
   }
 
-  // Writes all of `bytes` within the io timeout (false on error or timeout).
-  bool write_all(std::string_view bytes) {
-    while (!bytes.empty()) {
-      const auto n = write(bytes.data(), bytes.size());
-      if (n <= 0) return false;
-      bytes.remove_prefix(static_cast<std::size_t>(n));
-    }
-    return true;
-  }
+  // Writes all of `bytes` within the io timeout (false on error or timeout); an abandoned
+  // connection drops them, as write() does.
+  bool write_all(std::string_view bytes) { return abandoned_ || send_all(bytes); }
 
   // Half-closes, then reads and drops what the client still sends for a short while, so that
   // it sees the answer rather than a reset; the caller closes the socket.
@@ -249,14 +244,18 @@ class Connection final : public httplib::Stream {
 
   ssize_t write(const char* ptr, size_t size) override {
     if (abandoned_) return static_cast<ssize_t>(size);  // nobody reads it: drop, as if sent
-    const auto until = Clock::now() + config_.io_timeout;
-    for (;;) {
-      const auto n = ::send(fd_, ptr, size, MSG_NOSIGNAL);
-      if (n >= 0) return n;
-      if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) return -1;
-      pollfd p{fd_, POLLOUT, 0};
-      if (Clock::now() >= until || ::poll(&p, 1, static_cast<int>(kPollSlice.count())) < 0) return -1;
+    if (response_head_pending_) {
+      // The library writes each answer's head in one call (after any 100 Continue); one that
+      // closes the connection goes out without the Keep-Alive the library adds to it.
+      const std::string_view bytes(ptr, size);
+      if (!bytes.starts_with("HTTP/1.1 1")) {
+        response_head_pending_ = false;
+        if (const auto head = closing_response_head(bytes); head) {
+          return send_all(*head) ? static_cast<ssize_t>(size) : -1;
+        }
+      }
     }
+    return send_some(ptr, size);
   }
 
   void get_remote_ip_and_port(std::string& ip, int& port) const override {
@@ -267,6 +266,28 @@ class Connection final : public httplib::Stream {
   socket_t socket() const override { return fd_; }
 
  private:
+  // One send within the io timeout: the bytes sent (maybe fewer than `size`), or -1.
+  ssize_t send_some(const char* ptr, size_t size) {
+    const auto until = Clock::now() + config_.io_timeout;
+    for (;;) {
+      const auto n = ::send(fd_, ptr, size, MSG_NOSIGNAL);
+      if (n >= 0) return n;
+      if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) return -1;
+      pollfd p{fd_, POLLOUT, 0};
+      if (Clock::now() >= until || ::poll(&p, 1, static_cast<int>(kPollSlice.count())) < 0) return -1;
+    }
+  }
+
+  // send_some until all of `bytes` are sent (false on error or timeout).
+  bool send_all(std::string_view bytes) {
+    while (!bytes.empty()) {
+      const auto n = send_some(bytes.data(), bytes.size());
+      if (n <= 0) return false;
+      bytes.remove_prefix(static_cast<std::size_t>(n));
+    }
+    return true;
+  }
+
   std::size_t available() const { return in_.size() - in_pos_; }
 
   void discard_leading_crlf() {
@@ -366,6 +387,7 @@ class Connection final : public httplib::Stream {
   std::size_t head_len_ = 0;
   std::string head_out_;
   std::size_t head_pos_ = 0;
+  bool response_head_pending_ = false;  // the library has yet to write this request's answer head
 
   Clock::time_point request_start_{};
   Clock::time_point body_deadline_{};

@@ -326,4 +326,34 @@ std::string sanitized_head(const RequestHead& head) {
   return out;
 }
 
+std::optional<std::string> closing_response_head(std::string_view bytes) {
+  if (!bytes.starts_with("HTTP/1.") || !bytes.ends_with("\r\n\r\n")) return std::nullopt;
+  bool closing = false;
+  std::vector<std::pair<std::size_t, std::size_t>> keep_alive;  // [start, end) of each such line
+  std::size_t at = bytes.find("\r\n") + 2;                      // the first field line
+  while (at < bytes.size() - 2) {
+    const std::size_t end = bytes.find("\r\n", at);
+    const std::string_view line = bytes.substr(at, end - at);
+    const std::size_t colon = line.find(':');
+    if (colon == std::string_view::npos) return std::nullopt;  // not a head alone (a body follows)
+    const std::string_view name = line.substr(0, colon);
+    std::string_view value = line.substr(colon + 1);
+    while (!value.empty() && (value.front() == ' ' || value.front() == '\t')) value.remove_prefix(1);
+    while (!value.empty() && (value.back() == ' ' || value.back() == '\t')) value.remove_suffix(1);
+    if (iequals(name, "Connection") && iequals(value, "close")) closing = true;
+    if (iequals(name, "Keep-Alive")) keep_alive.emplace_back(at, end + 2);
+    at = end + 2;
+  }
+  if (!closing || keep_alive.empty()) return std::nullopt;
+  std::string out;
+  out.reserve(bytes.size());
+  std::size_t from = 0;
+  for (const auto& [start, end] : keep_alive) {
+    out += bytes.substr(from, start - from);
+    from = end;
+  }
+  out += bytes.substr(from);
+  return out;
+}
+
 }  // namespace seam::server

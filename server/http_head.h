@@ -104,4 +104,13 @@ class ChunkedFraming {
 /// turns an answer into a larger one). Ends with the blank line. O(head bytes).
 std::string sanitized_head(const RequestHead& head);
 
+/// A response head as cpp-httplib 0.11 writes it (status line to blank line, one write), with
+/// its `Keep-Alive` fields dropped when the head also says `Connection: close`: the library adds
+/// Keep-Alive to every answer to a request that did not ask to close, even one whose handler
+/// closes the connection (the 408, 413 and 503 the front stops a body with), which then
+/// contradicted itself. nullopt when there is nothing to drop (the bytes go out as they are:
+/// other heads, 1xx heads, anything that is not a head). Names and `close` are matched
+/// case-insensitively. O(head bytes).
+std::optional<std::string> closing_response_head(std::string_view bytes);
+
 }  // namespace seam::server

@@ -470,9 +470,6 @@ struct Server::Impl {
       with_record(req, [](RequestRecord& r) { r = RequestRecord{.start = Clock::now()}; });
       return httplib::Server::HandlerResponse::Unhandled;
     });
-    http.set_post_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-      ensure_request_id(req, res);
-    });
     // Statuses httplib sets itself (404, 400 for unparsable requests, 413) get the one JSON
     // error body too; bodies our handlers already wrote are left alone.
     http.set_error_handler(httplib::Server::HandlerWithResponse([this](const httplib::Request& req,
@@ -508,8 +505,18 @@ struct Server::Impl {
     // Metrics and the access log are written by the post-routing handler, which cpp-httplib runs
     // after the handler (and the error handler) and before the response goes on the wire. Its
     // logger hook runs only after the write, so a client could read /metrics before its own
-    // previous request was counted.
-    http.set_post_routing_handler([this](const httplib::Request& req, httplib::Response& res) { log_request(req, res); });
+    // previous request was counted. (One handler: a second call replaces the first.)
+    http.set_post_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+      ensure_request_id(req, res);
+      // The front drops Range (server/http_head.h), so no answer is ever partial: say so, also
+      // where the library has just offered byte ranges (it adds "bytes" to HEAD answers right
+      // before this handler).
+      if (req.method == "GET" || req.method == "HEAD") {
+        res.headers.erase("Accept-Ranges");
+        res.set_header("Accept-Ranges", "none");
+      }
+      log_request(req, res);
+    });
 
     http.Post("/seam", [this](const httplib::Request& req, httplib::Response& res) { handle_seam(req, res); });
     method_not_allowed("/seam", "POST");

@@ -24,6 +24,9 @@
 // - after a chunked head, ChunkedFraming takes the same bytes to the same verdict whether fed
 //   at once or byte by byte, never takes a byte past the message's end, and a message it
 //   calls done ends with "0" (and extensions) CRLF CRLF; the next head starts after it.
+// - the same bytes as an answer head (closing_response_head, which the front applies to what
+//   the library writes): a head it changes loses exactly its Keep-Alive lines, keeps every
+//   other byte in order, still ends with its blank line, and is left alone the second time.
 #include <algorithm>
 #include <cctype>
 #include <cstddef>
@@ -38,6 +41,7 @@ namespace {
 
 using seam::api::ApiErrorCode;
 using seam::server::ChunkedFraming;
+using seam::server::closing_response_head;
 using seam::server::find_head_end;
 using seam::server::has_bare_lf;
 using seam::server::HeadLimits;
@@ -161,8 +165,26 @@ std::optional<std::size_t> check_chunked(std::string_view stream) {
 
 }  // namespace
 
+// closing_response_head's properties; the oracle drops the Keep-Alive lines by its own scan.
+void check_response_head(std::string_view bytes) {
+  const auto out = closing_response_head(bytes);
+  if (!out) return;
+  check(bytes.starts_with("HTTP/1.") && out->ends_with("\r\n\r\n") && out->size() < bytes.size());
+  std::string expected;
+  for (std::size_t at = 0; at < bytes.size();) {
+    const std::size_t end = std::min(bytes.find("\r\n", at), bytes.size() - 2) + 2;
+    const std::string_view line = bytes.substr(at, end - at);
+    const std::size_t colon = line.find(':');
+    if (at == 0 || colon == std::string_view::npos || !iequals(line.substr(0, colon), "Keep-Alive")) expected += line;
+    at = end;
+  }
+  check(*out == expected);
+  check(!closing_response_head(*out));
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::string_view stream(reinterpret_cast<const char*>(data), size);
+  check_response_head(stream);
   const HeadLimits production;
   HeadLimits tight;
   tight.max_head_bytes = 512;

@@ -7,6 +7,7 @@ namespace seam_http_head_test {
 
 using seam::api::ApiErrorCode;
 using seam::server::ChunkedFraming;
+using seam::server::closing_response_head;
 using seam::server::find_head_end;
 using seam::server::has_bare_lf;
 using seam::server::HeadLimits;
@@ -124,6 +125,31 @@ TEST_CASE("http_head: the sanitized head drops Range and parses to the same requ
   CHECK(again->method == head->method);
   CHECK(again->target == head->target);
   CHECK(again->fields.size() == 2);
+}
+
+TEST_CASE("http_head: an answer head that closes the connection loses the Keep-Alive beside it, no other") {
+  const std::string closing =
+      "HTTP/1.1 408 Request Timeout\r\nConnection: close\r\nContent-Length: 2\r\n"
+      "Keep-Alive: timeout=5, max=1000\r\nX-Request-Id: a\r\n\r\n";
+  CHECK(closing_response_head(closing) ==
+        "HTTP/1.1 408 Request Timeout\r\nConnection: close\r\nContent-Length: 2\r\nX-Request-Id: a\r\n\r\n");
+  // Names and the token in any case, the value with blanks around it, the Keep-Alive first.
+  CHECK(
+      closing_response_head("HTTP/1.1 413 Payload Too Large\r\nkeep-alive: timeout=5\r\nCONNECTION:  Close \r\n\r\n") ==
+      "HTTP/1.1 413 Payload Too Large\r\nCONNECTION:  Close \r\n\r\n");
+  // Left as they are: a kept-alive answer, a closing one without Keep-Alive, a 100 Continue,
+  // bytes that are not a head alone (a body follows, or the blank line is missing).
+  CHECK_FALSE(closing_response_head("HTTP/1.1 200 OK\r\nKeep-Alive: timeout=5\r\nContent-Length: 0\r\n\r\n"));
+  CHECK_FALSE(closing_response_head("HTTP/1.1 200 OK\r\nConnection: close\r\nContent-Length: 0\r\n\r\n"));
+  CHECK_FALSE(closing_response_head("HTTP/1.1 100 Continue\r\n\r\n"));
+  CHECK_FALSE(closing_response_head(closing + "{}"));
+  CHECK_FALSE(closing_response_head("HTTP/1.1 200 OK\r\nConnection: close\r\n\r\nKeep-Alive: x\r\n\r\n"));
+  CHECK_FALSE(closing_response_head(closing.substr(0, closing.size() - 2)));
+  CHECK_FALSE(closing_response_head("{\"error\":{}}\r\n\r\n"));
+  CHECK_FALSE(closing_response_head(""));
+  // Connection: keep-alive, or close as part of another token, is no close.
+  CHECK_FALSE(closing_response_head("HTTP/1.1 200 OK\r\nConnection: keep-alive\r\nKeep-Alive: timeout=5\r\n\r\n"));
+  CHECK_FALSE(closing_response_head("HTTP/1.1 200 OK\r\nConnection: closed\r\nKeep-Alive: timeout=5\r\n\r\n"));
 }
 
 TEST_CASE("http_head: the path is the one the library routes on") {
