@@ -506,7 +506,8 @@ void FrontServer::serve_connection(Connection& conn) {
       return refuse(conn, &head, std::move(*refused));
     }
 
-    const bool close_connection = count + 1 == config_.keep_alive_max || drain_deadline_ns_.load() != 0;
+    const bool close_connection =
+        head.asks_to_close() || count + 1 == config_.keep_alive_max || drain_deadline_ns_.load() != 0;
     bool connection_closed = false;
     const httplib::Request* current = nullptr;
     const bool answered = process_request(conn, close_connection, connection_closed, [&](httplib::Request& req) {

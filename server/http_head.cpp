@@ -171,6 +171,20 @@ bool RequestHead::expects_continue() const {
   return e && iequals(trim_ows(*e), "100-continue");
 }
 
+bool RequestHead::asks_to_close() const {
+  for (const auto& [name, value] : fields) {
+    if (!iequals(name, "Connection")) continue;
+    std::string_view rest = value;
+    while (!rest.empty()) {
+      const auto comma = rest.find(',');
+      if (iequals(trim_ows(rest.substr(0, comma)), "close")) return true;
+      if (comma == std::string_view::npos) break;
+      rest.remove_prefix(comma + 1);
+    }
+  }
+  return false;
+}
+
 std::optional<std::size_t> find_head_end(std::string_view bytes) {
   const auto end = bytes.find("\r\n\r\n");
   if (end == std::string_view::npos) return std::nullopt;

@@ -39,6 +39,11 @@ struct RequestHead {
   std::optional<std::string_view> field(std::string_view name) const;
   /// True when the client expects "100 Continue" before sending the body.
   bool expects_continue() const;
+  /// True when a Connection field lists the "close" option (RFC 9110 §7.6.1: a comma-separated
+  /// list of tokens, compared case-insensitively), e.g. "Close" or "keep-alive, close". The
+  /// front then ends the connection after the answer, which says `Connection: close`
+  /// (cpp-httplib 0.11 only knows the exact value "close").
+  bool asks_to_close() const;
   /// True when the request announces a body (a length > 0 or chunked framing).
   bool has_body() const { return chunked || content_length.value_or(0) > 0; }
 };

@@ -158,6 +158,27 @@ TEST_CASE("hostile: the body limit holds on every framing and is answered before
   check_alive(seamd);
 }
 
+TEST_CASE("hostile: a client that asks to close in another case or in a list gets its connection closed") {
+  // cpp-httplib 0.11 compares the field with "close" exactly; the front reads the tokens.
+  Seamd seamd(limited_args());
+  for (const char* connection : {"close", "Close", "keep-alive, CLOSE"}) {
+    CAPTURE(connection);
+    RawConnection c(seamd.port());
+    REQUIRE(c.send(std::string("GET /healthz HTTP/1.1\r\nHost: t\r\nConnection: ") + connection + "\r\n\r\n"));
+    const auto t0 = Clock::now();
+    const auto raw = c.read_all(4s);  // returns when the server closes
+    CHECK(status_of(raw) == 200);
+    CHECK(header_of(raw, "Connection") == "close");
+    CHECK(header_of(raw, "Keep-Alive").empty());
+    CHECK(Clock::now() - t0 < 2s);  // not held open until the keep-alive timeout (5 s)
+  }
+  // Without it the connection stays open for the next request.
+  RawConnection c(seamd.port());
+  REQUIRE(
+      c.send("GET /healthz HTTP/1.1\r\nHost: t\r\n\r\nGET /version HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n"));
+  CHECK(statuses_of(c.read_all(4s)) == std::vector<int>{200, 200});
+}
+
 TEST_CASE("hostile: Range never turns an answer into a larger one") {
   Seamd seamd(limited_args());
   const auto plain = seamd.get("/version");

@@ -152,6 +152,24 @@ TEST_CASE("http_head: an answer head that closes the connection loses the Keep-A
   CHECK_FALSE(closing_response_head("HTTP/1.1 200 OK\r\nConnection: closed\r\nKeep-Alive: timeout=5\r\n\r\n"));
 }
 
+TEST_CASE("http_head: a Connection field asks to close in any case and anywhere in its list") {
+  auto asks = [](std::string_view fields) {
+    auto head = parse_request_head("GET / HTTP/1.1\r\nHost: a\r\n" + std::string(fields) + "\r\n", {});
+    REQUIRE(head.ok());
+    return head->asks_to_close();
+  };
+  CHECK(asks("Connection: close\r\n"));
+  CHECK(asks("Connection: Close\r\n"));
+  CHECK(asks("connection: CLOSE\r\n"));
+  CHECK(asks("Connection: keep-alive, close\r\n"));
+  CHECK(asks("Connection: TE ,close , foo\r\n"));
+  CHECK(asks("Connection: keep-alive\r\nConnection: close\r\n"));
+  CHECK_FALSE(asks(""));
+  CHECK_FALSE(asks("Connection: keep-alive\r\n"));
+  CHECK_FALSE(asks("Connection: closed, enclose\r\n"));
+  CHECK_FALSE(asks("X-Connection: close\r\n"));
+}
+
 TEST_CASE("http_head: the path is the one the library routes on") {
   for (const auto& [target, path] : std::vector<std::pair<std::string, std::string>>{
            {"/seam?x=1", "/seam"}, {"/se%61m", "/seam"}, {"/seam#frag", "/seam"}, {"/a%2fb?c", "/a/b"},
