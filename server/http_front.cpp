@@ -506,8 +506,10 @@ void FrontServer::serve_connection(Connection& conn) {
       return refuse(conn, &head, std::move(*refused));
     }
 
-    const bool close_connection =
-        head.asks_to_close() || count + 1 == config_.keep_alive_max || drain_deadline_ns_.load() != 0;
+    // HTTP/1.0 connections end after one answer (its keep-alive extension is not offered; the
+    // library would otherwise close them after an answer that promised Keep-Alive).
+    const bool close_connection = head.minor_version == 0 || head.asks_to_close() ||
+                                  count + 1 == config_.keep_alive_max || drain_deadline_ns_.load() != 0;
     bool connection_closed = false;
     const httplib::Request* current = nullptr;
     const bool answered = process_request(conn, close_connection, connection_closed, [&](httplib::Request& req) {

@@ -158,7 +158,9 @@ TEST_CASE("hostile: the body limit holds on every framing and is answered before
   check_alive(seamd);
 }
 
-TEST_CASE("hostile: a client that asks to close in another case or in a list gets its connection closed") {
+TEST_CASE(
+    "hostile: a client that asks to close in another case or in a list, or speaks HTTP/1.0, gets its connection "
+    "closed") {
   // cpp-httplib 0.11 compares the field with "close" exactly; the front reads the tokens.
   Seamd seamd(limited_args());
   for (const char* connection : {"close", "Close", "keep-alive, CLOSE"}) {
@@ -171,6 +173,18 @@ TEST_CASE("hostile: a client that asks to close in another case or in a list get
     CHECK(header_of(raw, "Connection") == "close");
     CHECK(header_of(raw, "Keep-Alive").empty());
     CHECK(Clock::now() - t0 < 2s);  // not held open until the keep-alive timeout (5 s)
+  }
+  // HTTP/1.0 answers close too, with or without keep-alive asked (which is not offered).
+  for (const char* fields : {"", "Connection: keep-alive\r\n", "Connection: Keep-Alive\r\n"}) {
+    CAPTURE(fields);
+    RawConnection c(seamd.port());
+    REQUIRE(c.send(std::string("GET /healthz HTTP/1.0\r\n") + fields + "\r\n"));
+    const auto t0 = Clock::now();
+    const auto raw = c.read_all(4s);
+    CHECK(status_of(raw) == 200);
+    CHECK(header_of(raw, "Connection") == "close");
+    CHECK(header_of(raw, "Keep-Alive").empty());
+    CHECK(Clock::now() - t0 < 2s);
   }
   // Without it the connection stays open for the next request.
   RawConnection c(seamd.port());
