@@ -331,6 +331,17 @@ std::string sanitized_head(const RequestHead& head) {
   out += head.minor_version == 0 ? " HTTP/1.0\r\n" : " HTTP/1.1\r\n";
   for (const auto& [name, value] : head.fields) {
     if (iequals(name, "Range") || iequals(name, "If-Range")) continue;
+    // A 100-continue expectation: ignored in HTTP/1.0 (RFC 9110 §10.1.1: no 100 Continue goes
+    // to a 1.0 client), and in any case the token the library answers, which compares it with
+    // "100-continue" exactly.
+    if (iequals(name, "Expect")) {
+      if (head.minor_version == 0) continue;
+      if (iequals(trim_ows(value), "100-continue")) {
+        out += name;
+        out += ": 100-continue\r\n";
+        continue;
+      }
+    }
     out += name;
     out += ": ";
     out += value;

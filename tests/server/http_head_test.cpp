@@ -127,6 +127,24 @@ TEST_CASE("http_head: the sanitized head drops Range and parses to the same requ
   CHECK(again->fields.size() == 2);
 }
 
+TEST_CASE(
+    "http_head: the sanitized head ignores Expect in HTTP/1.0 and spells 100-continue as the library matches it") {
+  auto sanitize = [](std::string_view bytes) {
+    auto head = parse_request_head(bytes, {});
+    REQUIRE(head.ok());
+    return sanitized_head(*head);
+  };
+  CHECK(sanitize("POST /seam HTTP/1.1\r\nHost: a\r\nExpect: 100-Continue\r\nContent-Length: 1\r\n\r\n") ==
+        "POST /seam HTTP/1.1\r\nHost: a\r\nExpect: 100-continue\r\nContent-Length: 1\r\n\r\n");
+  CHECK(sanitize("POST /seam HTTP/1.1\r\nHost: a\r\nexpect: 100-continue\r\n\r\n") ==
+        "POST /seam HTTP/1.1\r\nHost: a\r\nexpect: 100-continue\r\n\r\n");
+  CHECK(sanitize("POST /seam HTTP/1.0\r\nExpect: 100-continue\r\nContent-Length: 1\r\n\r\n") ==
+        "POST /seam HTTP/1.0\r\nContent-Length: 1\r\n\r\n");
+  // Other expectations pass as they are (the library ignores them).
+  CHECK(sanitize("GET / HTTP/1.1\r\nHost: a\r\nExpect: something\r\n\r\n") ==
+        "GET / HTTP/1.1\r\nHost: a\r\nExpect: something\r\n\r\n");
+}
+
 TEST_CASE("http_head: an answer head that closes the connection loses the Keep-Alive beside it, no other") {
   const std::string closing =
       "HTTP/1.1 408 Request Timeout\r\nConnection: close\r\nContent-Length: 2\r\n"
