@@ -41,6 +41,35 @@ std::string_view trim_ows(std::string_view s) {
   return s;
 }
 
+// A Content-Type value with its type, subtype and parameter names in lower case (RFC 9110
+// §8.3.1: they are case-insensitive) and every other byte kept, parameter values (quoted ones
+// whole) included: cpp-httplib 0.11 matches "multipart/form-data" and "boundary=" exactly.
+std::string lowercase_media_type(std::string_view value) {
+  std::string out(value);
+  enum class Part { kType, kName, kValue } part = Part::kType;
+  bool quoted = false;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const char c = out[i];
+    if (quoted) {
+      if (c == '\\')
+        ++i;  // a quoted pair: the next byte is literal
+      else if (c == '"')
+        quoted = false;
+      continue;
+    }
+    if (c == ';') {
+      part = Part::kName;
+    } else if (part == Part::kName && c == '=') {
+      part = Part::kValue;
+    } else if (part == Part::kValue && c == '"') {
+      quoted = true;
+    } else if (part != Part::kValue) {
+      out[i] = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+  }
+  return out;
+}
+
 // The path the library routes on: the target up to '?' or '#', percent-decoded (as
 // cpp-httplib's decode_url does), so that "/se%61m" is checked as the "/seam" it reaches.
 std::string routed_path(std::string_view target) {
@@ -334,6 +363,13 @@ std::string sanitized_head(const RequestHead& head) {
     // A 100-continue expectation: ignored in HTTP/1.0 (RFC 9110 §10.1.1: no 100 Continue goes
     // to a 1.0 client), and in any case the token the library answers, which compares it with
     // "100-continue" exactly.
+    if (iequals(name, "Content-Type")) {
+      out += name;
+      out += ": ";
+      out += lowercase_media_type(value);
+      out += "\r\n";
+      continue;
+    }
     if (iequals(name, "Expect")) {
       if (head.minor_version == 0) continue;
       if (iequals(trim_ows(value), "100-continue")) {

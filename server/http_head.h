@@ -107,7 +107,9 @@ class ChunkedFraming {
 /// The head handed to cpp-httplib: the request line and fields of `head` minus the ones the
 /// front has dealt with or refuses to honour (Range and If-Range: a range request never
 /// turns an answer into a larger one; Expect in HTTP/1.0), with a 100-continue expectation
-/// in any case spelt as the library matches it. Ends with the blank line. O(head bytes).
+/// in any case, and Content-Type's type, subtype and parameter names, spelt in the lower case
+/// the library matches (its parameter values as they are). Ends with the blank line.
+/// O(head bytes).
 std::string sanitized_head(const RequestHead& head);
 
 /// A response head as cpp-httplib 0.11 writes it (status line to blank line, one write), with

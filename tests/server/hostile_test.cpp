@@ -158,6 +158,14 @@ TEST_CASE("hostile: the body limit holds on every framing and is answered before
       CHECK(statuses_of(raw) == std::vector<int>{100, 200});
     }
   }
+  SUBCASE("a form body whose media type and boundary parameter are not in lower case is read as a form") {
+    const std::string body =
+        "--XyZ\r\nContent-Disposition: form-data; name=\"mesh\"; filename=\"s.glb\"\r\n"
+        "Content-Type: model/gltf-binary\r\n\r\n" +
+        sample_glb() + "\r\n--XyZ--\r\n";
+    const auto raw = exchange(seamd.port(), post_head(body.size(), "Multipart/Form-Data; Boundary=XyZ") + body, 60s);
+    CHECK(status_of(raw) == 200);
+  }
   SUBCASE("an HTTP/1.0 client's Expect is ignored: no 100 Continue, just the answer") {
     RawConnection c(seamd.port());
     REQUIRE(

@@ -128,7 +128,8 @@ TEST_CASE("http_head: the sanitized head drops Range and parses to the same requ
 }
 
 TEST_CASE(
-    "http_head: the sanitized head ignores Expect in HTTP/1.0 and spells 100-continue as the library matches it") {
+    "http_head: the sanitized head ignores Expect in HTTP/1.0 and spells 100-continue and media types as the library "
+    "matches them") {
   auto sanitize = [](std::string_view bytes) {
     auto head = parse_request_head(bytes, {});
     REQUIRE(head.ok());
@@ -140,6 +141,14 @@ TEST_CASE(
         "POST /seam HTTP/1.1\r\nHost: a\r\nexpect: 100-continue\r\n\r\n");
   CHECK(sanitize("POST /seam HTTP/1.0\r\nExpect: 100-continue\r\nContent-Length: 1\r\n\r\n") ==
         "POST /seam HTTP/1.0\r\nContent-Length: 1\r\n\r\n");
+  // The media type and parameter names in lower case, parameter values (quoted ones whole,
+  // with a quoted pair) as they are.
+  CHECK(
+      sanitize("POST /seam HTTP/1.1\r\nHost: a\r\nContent-Type: Multipart/Form-Data; Boundary=XyZ\r\n"
+               "Content-Length: 1\r\n\r\n") ==
+      "POST /seam HTTP/1.1\r\nHost: a\r\nContent-Type: multipart/form-data; boundary=XyZ\r\nContent-Length: 1\r\n\r\n");
+  CHECK(sanitize("POST /seam HTTP/1.1\r\nHost: a\r\ncontent-type: Model/GLTF+JSON;CharSet=\"A;B=\\\"C\";X=Y\r\n\r\n") ==
+        "POST /seam HTTP/1.1\r\nHost: a\r\ncontent-type: model/gltf+json;charset=\"A;B=\\\"C\";x=Y\r\n\r\n");
   // Other expectations pass as they are (the library ignores them).
   CHECK(sanitize("GET / HTTP/1.1\r\nHost: a\r\nExpect: something\r\n\r\n") ==
         "GET / HTTP/1.1\r\nHost: a\r\nExpect: something\r\n\r\n");
