@@ -112,16 +112,29 @@ api::ApiResult<core::Ok> parse_request_line(std::string_view line, RequestHead& 
                           std::string(method) + " is not served; the service takes GET, HEAD, POST and OPTIONS",
                           {{"allow", "GET, HEAD, POST, OPTIONS"}});
   }
-  // Origin form only ("/path?query"), or "*" for OPTIONS: the library would route "?/seam"
-  // as "/seam" without the checks made on the path (http_head_fuzz, multipart_fuzz).
-  if (!(target.substr(0, 1) == "/" || (target == "*" && method == "OPTIONS"))) {
-    return malformed("the request target must start with '/'");
-  }
   if (target.empty() || !std::all_of(target.begin(), target.end(), [](char c) {
         const auto u = static_cast<unsigned char>(c);
         return u > 0x20 && u != 0x7f;
       })) {
     return malformed("the request target is empty or holds spaces or control bytes");
+  }
+  // Origin form ("/path?query"), "*" for OPTIONS, or the absolute form a server must also take
+  // (RFC 9112 §3.2.2), turned into the origin form here: the library only ever sees a target
+  // that starts with '/' (it would route "?/seam" as "/seam" without the checks made on the
+  // path: http_head_fuzz, multipart_fuzz). The Host field is not used for anything.
+  std::string origin(target);
+  if (const auto scheme = target.find("://");
+      scheme != std::string_view::npos &&
+      (iequals(target.substr(0, scheme), "http") || iequals(target.substr(0, scheme), "https"))) {
+    const auto rest = target.substr(scheme + 3);
+    const auto authority = rest.substr(0, rest.find_first_of("/?#"));
+    if (authority.empty() || authority.find('@') != std::string_view::npos) {
+      return malformed("an absolute request target needs a host and no user information");
+    }
+    const auto tail = rest.substr(authority.size());
+    origin = tail.starts_with('/') ? std::string(tail) : "/" + std::string(tail);
+  } else if (!(target.starts_with('/') || (target == "*" && method == "OPTIONS"))) {
+    return malformed("the request target must be a path starting with '/' or an absolute http(s) URI");
   }
   if (version == "HTTP/1.1") {
     out.minor_version = 1;
@@ -131,8 +144,8 @@ api::ApiResult<core::Ok> parse_request_line(std::string_view line, RequestHead& 
     return malformed("only HTTP/1.0 and HTTP/1.1 are served");
   }
   out.method = method;
-  out.target = target;
-  out.path = routed_path(target);
+  out.path = routed_path(origin);
+  out.target = std::move(origin);
   return core::Ok{};
 }
 

@@ -28,7 +28,9 @@ struct HeadLimits {
 /// One parsed request head. Field names keep their spelling; lookups ignore case.
 struct RequestHead {
   std::string method;  ///< e.g. "POST"
-  std::string target;  ///< request-target as sent, e.g. "/seam?method=mst"
+  /// The request-target in origin form, e.g. "/seam?method=mst" (an absolute one such as
+  /// "http://host/seam?method=mst" is turned into it), or "*" for OPTIONS.
+  std::string target;
   std::string path;    ///< the path the library routes on: target up to '?' or '#', percent-decoded
   int minor_version = 1;  ///< HTTP/1.<minor_version>: 0 or 1
   std::vector<std::pair<std::string, std::string>> fields;

@@ -217,10 +217,28 @@ TEST_CASE("http_head: a field line is counted as the library reads it, and the t
   CHECK(code_of("GET / HTTP/1.1\r\nHost: a\r\nX:" + std::string(8188, 'a') + "\r\n\r\n") ==
         ApiErrorCode::kHeadersTooLarge);
   CHECK(code_of("GET ?/seam HTTP/1.1\r\nHost: a\r\n\r\n") == ApiErrorCode::kMalformedRequest);
-  CHECK(code_of("POST http://x/seam HTTP/1.1\r\nHost: a\r\nContent-Length: 1\r\n\r\n") ==
-        ApiErrorCode::kMalformedRequest);
   CHECK(code_of("GET * HTTP/1.1\r\nHost: a\r\n\r\n") == ApiErrorCode::kMalformedRequest);
   CHECK(parse_request_head("OPTIONS * HTTP/1.1\r\nHost: a\r\n\r\n", {}).ok());
+}
+
+TEST_CASE("http_head: an absolute request target is taken in its origin form, with a host and no user") {
+  for (const auto& [target, origin] :
+       std::vector<std::pair<std::string, std::string>>{{"http://x/seam?method=mst", "/seam?method=mst"},
+                                                        {"HTTPS://x:8080/se%61m", "/se%61m"},
+                                                        {"http://x", "/"},
+                                                        {"http://x?q=1", "/?q=1"},
+                                                        {"http://[::1]:80//healthz", "//healthz"}}) {
+    CAPTURE(target);
+    auto head = parse_request_head("POST " + target + " HTTP/1.1\r\nHost: a\r\nContent-Length: 1\r\n\r\n", {});
+    REQUIRE(head.ok());
+    CHECK(head->target == origin);
+    CHECK(head->path == seam::server::parse_request_head("GET " + origin + " HTTP/1.1\r\nHost: a\r\n\r\n", {})->path);
+    CHECK(sanitized_head(*head).starts_with("POST " + origin + " HTTP/1.1\r\n"));
+  }
+  for (const char* target : {"http:///seam", "http://user@x/seam", "ftp://x/seam", "http:/x/seam", "x/seam"}) {
+    CAPTURE(target);
+    CHECK(code_of(std::string("GET ") + target + " HTTP/1.1\r\nHost: a\r\n\r\n") == ApiErrorCode::kMalformedRequest);
+  }
 }
 
 TEST_CASE("http_head: exactly one Host in HTTP/1.1, at most one in HTTP/1.0") {
