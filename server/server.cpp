@@ -521,6 +521,11 @@ struct Server::Impl {
     http.Post("/seam", [this](const httplib::Request& req, httplib::Response& res) { handle_seam(req, res); });
     method_not_allowed("/seam", "POST");
     add_probes(http);
+    // OPTIONS * asks about the server as a whole (RFC 9110 §9.3.7): every method some route takes.
+    http.Options(R"(\*)", [](const httplib::Request&, httplib::Response& res) {
+      res.status = 204;
+      res.set_header("Allow", "GET, HEAD, POST, OPTIONS");
+    });
     http.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
       res.set_content(metrics.render(gauges()), "text/plain; version=0.0.4; charset=utf-8");
     });

@@ -372,6 +372,9 @@ TEST_CASE("hostile: pipelining, strict header syntax, OPTIONS, TRACE and form bo
     const auto options = exchange(seamd.port(), "OPTIONS /seam HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n");
     CHECK(status_of(options) == 204);
     CHECK(header_of(options, "Allow") == "POST, OPTIONS");
+    const auto server_wide = exchange(seamd.port(), "OPTIONS * HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n");
+    CHECK(status_of(server_wide) == 204);
+    CHECK(header_of(server_wide, "Allow") == "GET, HEAD, POST, OPTIONS");
     const auto trace = exchange(seamd.port(), "TRACE /seam HTTP/1.1\r\nHost: t\r\n\r\n");
     CHECK(status_of(trace) == 405);
     CHECK(!header_of(trace, "Allow").empty());
