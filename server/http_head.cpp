@@ -373,9 +373,7 @@ std::string sanitized_head(const RequestHead& head) {
   out += head.minor_version == 0 ? " HTTP/1.0\r\n" : " HTTP/1.1\r\n";
   for (const auto& [name, value] : head.fields) {
     if (iequals(name, "Range") || iequals(name, "If-Range")) continue;
-    // A 100-continue expectation: ignored in HTTP/1.0 (RFC 9110 §10.1.1: no 100 Continue goes
-    // to a 1.0 client), and in any case the token the library answers, which compares it with
-    // "100-continue" exactly.
+    // The media type in the lower case the library matches (lowercase_media_type).
     if (iequals(name, "Content-Type")) {
       out += name;
       out += ": ";
@@ -383,6 +381,9 @@ std::string sanitized_head(const RequestHead& head) {
       out += "\r\n";
       continue;
     }
+    // A 100-continue expectation: ignored in HTTP/1.0 (RFC 9110 §10.1.1: no 100 Continue goes
+    // to a 1.0 client), and in any case the token the library answers, which compares it with
+    // "100-continue" exactly.
     if (iequals(name, "Expect")) {
       if (head.minor_version == 0) continue;
       if (iequals(trim_ows(value), "100-continue")) {
