@@ -460,6 +460,7 @@ void FrontServer::refuse(Connection& conn, const RequestHead* head, Refusal r) {
   const auto body = api::error_text(r.error);
   const int status = api::http_status(r.error.code);
   std::string out = "HTTP/1.1 " + std::to_string(status) + " " + reason_phrase(status) + "\r\n";
+  out += "Date: " + http_date(std::chrono::system_clock::now()) + "\r\n";
   out += "Content-Type: application/json\r\nConnection: close\r\n";
   out += "Content-Length: " + std::to_string(body.size()) + "\r\n";
   for (const auto& [name, value] : r.headers) out += name + ": " + value + "\r\n";

@@ -5,6 +5,7 @@
 // tested and fuzzed (tests/fuzz/http_head_fuzz.cpp).
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -122,5 +123,10 @@ std::string sanitized_head(const RequestHead& head);
 /// other heads, 1xx heads, anything that is not a head). Names and `close` are matched
 /// case-insensitively. O(head bytes).
 std::optional<std::string> closing_response_head(std::string_view bytes);
+
+/// `t` as an HTTP date (RFC 9110 §5.6.7, IMF-fixdate in GMT), e.g. "Sun, 06 Nov 1994 08:49:37
+/// GMT", for the Date field every answer carries (§6.6.1: a server with a clock must send it).
+/// Independent of the locale. O(1).
+std::string http_date(std::chrono::system_clock::time_point t);
 
 }  // namespace seam::server

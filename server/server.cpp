@@ -508,6 +508,7 @@ struct Server::Impl {
     // previous request was counted. (One handler: a second call replaces the first.)
     http.set_post_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
       ensure_request_id(req, res);
+      res.set_header("Date", http_date(std::chrono::system_clock::now()));
       // The front drops Range (server/http_head.h), so no answer is ever partial: say so, also
       // where the library has just offered byte ranges (it adds "bytes" to HEAD answers right
       // before this handler).

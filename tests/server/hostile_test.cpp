@@ -375,6 +375,12 @@ TEST_CASE("hostile: pipelining, strict header syntax, OPTIONS, TRACE and form bo
     const auto server_wide = exchange(seamd.port(), "OPTIONS * HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n");
     CHECK(status_of(server_wide) == 204);
     CHECK(header_of(server_wide, "Allow") == "GET, HEAD, POST, OPTIONS");
+    // Every answer is dated (RFC 9110 6.6.1), the library's and the front's own refusals.
+    for (const auto& raw : {options, server_wide, exchange(seamd.port(), "GET /healthz HTTP/1.1\r\n\r\n")}) {
+      const auto date = header_of(raw, "Date");
+      CHECK(date.size() == 29);
+      CHECK(date.ends_with(" GMT"));
+    }
     const auto trace = exchange(seamd.port(), "TRACE /seam HTTP/1.1\r\nHost: t\r\n\r\n");
     CHECK(status_of(trace) == 405);
     CHECK(!header_of(trace, "Allow").empty());

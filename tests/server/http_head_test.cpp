@@ -11,6 +11,7 @@ using seam::server::closing_response_head;
 using seam::server::find_head_end;
 using seam::server::has_bare_lf;
 using seam::server::HeadLimits;
+using seam::server::http_date;
 using seam::server::parse_request_head;
 using seam::server::sanitized_head;
 
@@ -195,6 +196,14 @@ TEST_CASE("http_head: a Connection field asks to close in any case and anywhere 
   CHECK_FALSE(asks("Connection: keep-alive\r\n"));
   CHECK_FALSE(asks("Connection: closed, enclose\r\n"));
   CHECK_FALSE(asks("X-Connection: close\r\n"));
+}
+
+TEST_CASE("http_head: the Date field's IMF-fixdate") {
+  using std::chrono::system_clock;
+  CHECK(http_date(system_clock::from_time_t(784111777)) == "Sun, 06 Nov 1994 08:49:37 GMT");  // RFC 9110's
+  CHECK(http_date(system_clock::from_time_t(0)) == "Thu, 01 Jan 1970 00:00:00 GMT");
+  CHECK(http_date(system_clock::from_time_t(951782400)) == "Tue, 29 Feb 2000 00:00:00 GMT");
+  CHECK(http_date(system_clock::from_time_t(1796428799)) == "Fri, 04 Dec 2026 23:59:59 GMT");
 }
 
 TEST_CASE("http_head: the path is the one the library routes on") {
