@@ -414,10 +414,7 @@ std::optional<std::string> closing_response_head(std::string_view bytes) {
     const std::size_t colon = line.find(':');
     if (colon == std::string_view::npos) return std::nullopt;  // not a head alone (a body follows)
     const std::string_view name = line.substr(0, colon);
-    std::string_view value = line.substr(colon + 1);
-    while (!value.empty() && (value.front() == ' ' || value.front() == '\t')) value.remove_prefix(1);
-    while (!value.empty() && (value.back() == ' ' || value.back() == '\t')) value.remove_suffix(1);
-    if (iequals(name, "Connection") && iequals(value, "close")) closing = true;
+    if (iequals(name, "Connection") && iequals(trim_ows(line.substr(colon + 1)), "close")) closing = true;
     if (iequals(name, "Keep-Alive")) keep_alive.emplace_back(at, end + 2);
     at = end + 2;
   }
